@@ -1,0 +1,1 @@
+//! Energy terms of the incremental potential.

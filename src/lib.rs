@@ -1,0 +1,18 @@
+//! elasto: elastic solids with linear finite elements in 2D and 3D, stepped by
+//! backward Euler as an incremental-potential minimisation with projected
+//! Newton, and rendered headless with wgpu to PNG frames and video.
+//!
+//! Data flows one way: scene → mesh + effects → time stepper → positions →
+//! renderer → files. The simulation core ([`mesh`], [`material`], [`energy`],
+//! [`solver`], [`sim`]) knows nothing about rendering; the renderer
+//! ([`render`]) knows nothing about materials.
+#![warn(missing_docs)]
+
+pub mod energy;
+pub mod material;
+pub mod math;
+pub mod mesh;
+pub mod sim;
+pub mod solver;
+
+pub mod render;

@@ -1,0 +1,74 @@
+//! Dimension aliases: the one place where 2D and 3D differ by name.
+//!
+//! Everything else in the crate is generic over `const D: usize` and speaks of
+//! [`Vector<D>`] and [`Matrix<D>`]; it never branches on the dimension. A linear
+//! simplex in `D` dimensions has `D + 1` vertices (a triangle in 2D, a
+//! tetrahedron in 3D).
+
+use nalgebra::{DMatrix, SMatrix, SVector};
+
+/// A point or displacement in `D` dimensions.
+pub type Vector<const D: usize> = SVector<f64, D>;
+/// A `D x D` matrix (deformation gradient, stress, rest-shape matrix).
+pub type Matrix<const D: usize> = SMatrix<f64, D, D>;
+/// A 2D vector.
+pub type Vector2 = Vector<2>;
+/// A 3D vector.
+pub type Vector3 = Vector<3>;
+/// A dense matrix of run-time size (used for element Hessians of size
+/// `D(D+1) x D(D+1)`).
+pub type DenseMatrix = DMatrix<f64>;
+
+/// The fourth-order tensor dP/dF, stored as `D x D` blocks:
+/// `tensor[k][l]` is the matrix dP/dF_kl.
+pub type StressDerivative<const D: usize> = [[Matrix<D>; D]; D];
+
+/// Number of vertices of a simplex in dimension `d`.
+pub const fn simplex_vertices(d: usize) -> usize {
+    d + 1
+}
+
+/// The vertical axis: y in 2D and in 3D (3D scenes are y-up, as in the report).
+pub const UP_AXIS: usize = 1;
+
+/// Returns the `D x D` zero stress derivative.
+pub fn zero_stress_derivative<const D: usize>() -> StressDerivative<D> {
+    [[Matrix::<D>::zeros(); D]; D]
+}
+
+/// Determinant of a small square matrix by Gaussian elimination with partial
+/// pivoting.
+///
+/// nalgebra's own `determinant` needs a typenum bound that a generic
+/// `const D: usize` cannot name, so the crate keeps this one for `D <= 3`.
+pub fn determinant<const D: usize>(m: &Matrix<D>) -> f64 {
+    let mut a = *m;
+    let mut det = 1.0;
+    for col in 0..D {
+        let pivot = (col..D).max_by(|&i, &j| a[(i, col)].abs().total_cmp(&a[(j, col)].abs())).unwrap_or(col);
+        if a[(pivot, col)] == 0.0 {
+            return 0.0;
+        }
+        if pivot != col {
+            a.swap_rows(pivot, col);
+            det = -det;
+        }
+        det *= a[(col, col)];
+        for row in col + 1..D {
+            let factor = a[(row, col)] / a[(col, col)];
+            for c in col..D {
+                a[(row, c)] -= factor * a[(col, c)];
+            }
+        }
+    }
+    det
+}
+
+/// Inverse of a small square matrix (`None` when singular).
+pub fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
+    // nalgebra's inversion is bound-free for dynamic matrices; the copy is tiny.
+    let dynamic = DMatrix::from_fn(D, D, |i, j| m[(i, j)]);
+    let inv = dynamic.try_inverse()?;
+    let out = Matrix::<D>::from_fn(|i, j| inv[(i, j)]);
+    out.iter().all(|v| v.is_finite()).then_some(out)
+}

@@ -1,0 +1,41 @@
+//! The effects a scene asks for; an absent effect does not exist in the simulation.
+
+use crate::math::Vector;
+
+/// A flat ground `x[UP_AXIS] = height` with the report's log barrier.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ground {
+    /// Height of the plane along the up axis (y), in length units (default: 0).
+    pub height: f64,
+    /// Barrier activation distance `a`: the barrier acts for gaps in (0, a), in length units (default: 0.1).
+    pub activation_distance: f64,
+    /// Barrier stiffness `kappa`, in energy per length^2; `None` picks it by the
+    /// default rule documented in [`crate::energy::GroundBarrier::default_stiffness`].
+    pub stiffness: Option<f64>,
+}
+
+/// An axis-aligned box: every vertex inside it at rest is pinned (Dirichlet).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PinRegion<const D: usize> {
+    /// Lower corner.
+    pub min: Vector<D>,
+    /// Upper corner.
+    pub max: Vector<D>,
+}
+
+/// The set of effects acting on the body besides inertia and elasticity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Effects<const D: usize> {
+    /// Gravitational acceleration, in length/s^2; `None` means no gravity term.
+    pub gravity: Option<Vector<D>>,
+    /// Ground contact; `None` means no barrier term and no contact checks.
+    pub ground: Option<Ground>,
+    /// Pinned region; `None` means every vertex is free.
+    pub pinned: Option<PinRegion<D>>,
+}
+
+impl<const D: usize> Default for Effects<D> {
+    fn default() -> Self {
+        Self { gravity: None, ground: None, pinned: None }
+    }
+}

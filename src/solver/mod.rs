@@ -1,0 +1,32 @@
+//! Nonlinear solvers for the incremental potential: projected Newton and the report's gradient descent.
+
+/// Which minimiser to run each step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SolverMethod {
+    /// Projected Newton: PSD-projected element Hessians, sparse Cholesky,
+    /// backtracking line search with contact- and inversion-aware step caps.
+    Newton,
+    /// The report's method: `x <- x - step * grad E(x)` with a fixed step (the
+    /// report used 1e-6), kept for comparison.
+    GradientDescent {
+        /// Fixed step length `alpha`.
+        step: f64,
+    },
+}
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSettings {
+    /// The minimiser (default: Newton).
+    pub method: SolverMethod,
+    /// Convergence tolerance on `|dx|_inf / dt`, in length/s (default: 1e-4).
+    pub tolerance: f64,
+    /// Iteration cap per step (default: 50).
+    pub max_iterations: usize,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self { method: SolverMethod::Newton, tolerance: 1e-4, max_iterations: 50 }
+    }
+}
