@@ -15,4 +15,5 @@ pub mod mesh;
 pub mod sim;
 pub mod solver;
 
+pub mod compare;
 pub mod render;
