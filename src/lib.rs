@@ -8,6 +8,7 @@
 //! ([`render`]) knows nothing about materials.
 #![warn(missing_docs)]
 
+// Simulation core.
 pub mod energy;
 pub mod material;
 pub mod math;
@@ -15,5 +16,11 @@ pub mod mesh;
 pub mod sim;
 pub mod solver;
 
+// Scene files and the application layer.
+pub mod app;
+pub mod output;
+pub mod scene;
+
+// Rendering and image comparison.
 pub mod compare;
 pub mod render;
