@@ -92,8 +92,6 @@ pub struct RenderSettings {
 /// Video container to write besides the PNG frames.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum VideoFormat {
-    /// No video.
-    None,
     /// Animated PNG (`video.png`), always available.
     Apng,
     /// H.264 MP4 through ffmpeg (`video.mp4`).
@@ -107,10 +105,10 @@ pub enum VideoFormat {
 pub struct RenderOutputs {
     /// Folder for frame_0000.png, ...
     pub frames_dir: PathBuf,
-    /// Folder for the video file.
+    /// Folder for the video files (`video.png`, `video.mp4`, `video.gif`).
     pub video_dir: PathBuf,
-    /// Video format.
-    pub video: VideoFormat,
+    /// Videos to write (empty: none).
+    pub videos: Vec<VideoFormat>,
     /// Frames per second of the video.
     pub fps: f64,
 }
