@@ -10,6 +10,7 @@
 
 // Simulation core.
 pub mod energy;
+pub mod finite_volume;
 pub mod material;
 pub mod math;
 pub mod mesh;

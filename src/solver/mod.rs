@@ -30,3 +30,24 @@ impl Default for SolverSettings {
         Self { method: SolverMethod::Newton, tolerance: 1e-4, max_iterations: 50 }
     }
 }
+
+mod gradient_descent;
+mod hessian;
+mod newton;
+mod objective;
+
+pub use gradient_descent::gradient_descent;
+pub use hessian::{FactorisationError, SparseHessian};
+pub use newton::newton;
+pub use objective::Objective;
+
+/// Why a step's minimisation could not be carried out.
+#[derive(Debug, Clone, thiserror::Error)]
+pub enum SolveError {
+    /// An energy or gradient became infinite or NaN.
+    #[error("{0}")]
+    NonFinite(&'static str),
+    /// The linear solve failed.
+    #[error(transparent)]
+    Factorisation(FactorisationError),
+}

@@ -72,3 +72,9 @@ pub fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
     let out = Matrix::<D>::from_fn(|i, j| inv[(i, j)]);
     out.iter().all(|v| v.is_finite()).then_some(out)
 }
+
+mod polynomial;
+mod psd;
+
+pub use polynomial::{Polynomial, first_root_in};
+pub use psd::project_to_psd;

@@ -1,0 +1,249 @@
+//! Hyperelastic strain energy of linear simplices, with its gradient and projected Hessian.
+//!
+//! With constant strain per element `e`, `U = sum_e V_e Psi(F_e)` and
+//! `F_e = D_s D_m^{-1}`. Writing `B = D_m^{-1}` and the shape-function gradients
+//! `g_a = B^T e_a` for the vertices `a = 1..D` and `g_0 = -sum_a g_a`, one has
+//! `dF/dx_{a,k} = e_k g_a^T`, hence
+//!
+//! ```text
+//! dU/dx_a                 = V P g_a,
+//! d2U/dx_{a,k} dx_{b,l}   = V sum_{j,n} (dP/dF_{l n})_{k j} (g_a)_j (g_b)_n.
+//! ```
+//!
+//! The element Hessian (`D(D+1)` square) is projected onto the PSD cone before
+//! assembly. Elements are processed in parallel into per-element slots, which
+//! are then summed per vertex (or per matrix entry) in a fixed order, so the
+//! result is bitwise the same whatever the thread count.
+//!
+//! The finite-volume force of the report equals `-dU/dx_a`; see
+//! [`crate::finite_volume`].
+
+use super::EnergyTerm;
+use crate::material::{HyperelasticMaterial, Material};
+use crate::math::{DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in, project_to_psd};
+use crate::mesh::{Mesh, RestElement, edge_matrix};
+use crate::sim::ElementField;
+use crate::solver::SparseHessian;
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// The fraction of the distance to inversion a single line-search step may cover at most.
+pub const INVERSION_STEP_FRACTION: f64 = 0.9;
+
+/// Elements per rayon task: small meshes stay on one thread.
+const ELEMENTS_PER_TASK: usize = 256;
+
+/// The strain energy of a mesh made of one material.
+pub struct Elasticity<const D: usize> {
+    mesh: Arc<Mesh<D>>,
+    material: Material,
+    /// For each vertex, the slots `e * (D + 1) + a` of the elements around it, in element order.
+    vertex_slot_offsets: Vec<usize>,
+    vertex_slots: Vec<usize>,
+}
+
+/// Calls `$body` with `$m` bound to the concrete material.
+macro_rules! with_material {
+    ($material:expr, $m:ident => $body:expr) => {
+        match $material {
+            Material::StVenantKirchhoff($m) => $body,
+            Material::NeoHookean($m) => $body,
+        }
+    };
+}
+
+/// Gradient of the linear shape function of local vertex `a` (constant over the element).
+fn shape_gradient<const D: usize>(dm_inv: &Matrix<D>, a: usize) -> Vector<D> {
+    if a == 0 { -dm_inv.row_sum().transpose() } else { dm_inv.row(a - 1).transpose() }
+}
+
+impl<const D: usize> Elasticity<D> {
+    /// The strain energy of `mesh` made of `material`.
+    pub fn new(mesh: Arc<Mesh<D>>, material: Material) -> Self {
+        let nodes = D + 1;
+        let mut counts = vec![0usize; mesh.vertex_count() + 1];
+        for simplex in mesh.simplices() {
+            for &v in simplex {
+                counts[v + 1] += 1;
+            }
+        }
+        for v in 0..mesh.vertex_count() {
+            counts[v + 1] += counts[v];
+        }
+        let mut next = counts.clone();
+        let mut slots = vec![0usize; counts[mesh.vertex_count()]];
+        for (e, simplex) in mesh.simplices().enumerate() {
+            for (a, &v) in simplex.iter().enumerate() {
+                slots[next[v]] = e * nodes + a;
+                next[v] += 1;
+            }
+        }
+        Self { mesh, material, vertex_slot_offsets: counts, vertex_slots: slots }
+    }
+
+    /// The material.
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+
+    /// The mesh.
+    pub fn mesh(&self) -> &Arc<Mesh<D>> {
+        &self.mesh
+    }
+
+    fn deformation_gradients(&self, x: &[Vector<D>]) -> Vec<Matrix<D>> {
+        (0..self.mesh.element_count())
+            .into_par_iter()
+            .with_min_len(ELEMENTS_PER_TASK)
+            .map(|e| self.mesh.deformation_gradient(e, x))
+            .collect()
+    }
+
+    /// `D + 1` gradient vectors per element, `dU_e/dx_a = V P g_a`.
+    fn element_gradients<M: HyperelasticMaterial<D>>(&self, material: &M, x: &[Vector<D>]) -> Vec<Vector<D>> {
+        let nodes = D + 1;
+        let mut out = vec![Vector::<D>::zeros(); self.mesh.element_count() * nodes];
+        out.par_chunks_mut(nodes).with_min_len(ELEMENTS_PER_TASK).enumerate().for_each(|(e, slot)| {
+            let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
+            let p = material.first_piola(&self.mesh.deformation_gradient(e, x));
+            for (a, g) in slot.iter_mut().enumerate() {
+                *g = p * shape_gradient(&dm_inv, a) * volume;
+            }
+        });
+        out
+    }
+
+    /// The element Hessian of element `e`, projected to PSD, scaled.
+    fn element_hessian<M: HyperelasticMaterial<D>>(&self, material: &M, e: usize, x: &[Vector<D>], scale: f64) -> DenseMatrix {
+        let size = D * (D + 1);
+        let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
+        let dp = material.first_piola_derivative(&self.mesh.deformation_gradient(e, x));
+        let mut h = DenseMatrix::zeros(size, size);
+        for b in 0..=D {
+            let gb = shape_gradient(&dm_inv, b);
+            for l in 0..D {
+                let mut m_bl = Matrix::<D>::zeros();
+                for n in 0..D {
+                    m_bl += dp[l][n] * gb[n];
+                }
+                for a in 0..=D {
+                    let column = m_bl * shape_gradient(&dm_inv, a) * (volume * scale);
+                    for k in 0..D {
+                        h[(a * D + k, b * D + l)] = column[k];
+                    }
+                }
+            }
+        }
+        project_to_psd(&mut h);
+        h
+    }
+
+    /// The element Hessian of element `e` before projection (for tests and analysis).
+    pub fn unprojected_element_hessian(&self, e: usize, x: &[Vector<D>]) -> DenseMatrix {
+        let size = D * (D + 1);
+        let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
+        let dp = with_material!(&self.material, m => HyperelasticMaterial::<D>::first_piola_derivative(m, &self.mesh.deformation_gradient(e, x)));
+        DenseMatrix::from_fn(size, size, |row, col| {
+            let (a, k, b, l) = (row / D, row % D, col / D, col % D);
+            let (ga, gb) = (shape_gradient(&dm_inv, a), shape_gradient(&dm_inv, b));
+            let mut sum = 0.0;
+            for j in 0..D {
+                for n in 0..D {
+                    sum += dp[l][n][(k, j)] * ga[j] * gb[n];
+                }
+            }
+            volume * sum
+        })
+    }
+
+    /// Minimum volume ratio `J = det F` over all elements.
+    pub fn min_volume_ratio(&self, x: &[Vector<D>]) -> f64 {
+        self.deformation_gradients(x).iter().map(determinant).fold(f64::INFINITY, f64::min)
+    }
+
+    /// A per-element scalar at positions `x`.
+    pub fn element_field(&self, x: &[Vector<D>], field: ElementField) -> Vec<f64> {
+        let gradients = self.deformation_gradients(x);
+        with_material!(&self.material, m => gradients
+            .par_iter()
+            .with_min_len(ELEMENTS_PER_TASK)
+            .map(|f| match field {
+                ElementField::EnergyDensity => m.energy_density(f),
+                ElementField::VolumeRatio => determinant(f),
+                ElementField::VonMises => von_mises(&HyperelasticMaterial::<D>::first_piola(m, f), f),
+            })
+            .collect())
+    }
+}
+
+/// Von Mises equivalent stress of the Cauchy stress `sigma = P F^T / J`:
+/// `sqrt(3/2 s:s)` with the deviator `s` taken in 3D, a 2D stress embedded with
+/// zero out-of-plane components: `s:s = sigma:sigma - tr(sigma)^2 / 3`.
+fn von_mises<const D: usize>(p: &Matrix<D>, f: &Matrix<D>) -> f64 {
+    let j = determinant(f);
+    if !(j > 0.0) {
+        return f64::NAN;
+    }
+    let sigma = p * f.transpose() / j;
+    (1.5 * (sigma.norm_squared() - sigma.trace().powi(2) / 3.0)).max(0.0).sqrt()
+}
+
+impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
+    fn name(&self) -> &'static str {
+        "elastic"
+    }
+
+    fn value(&self, x: &[Vector<D>]) -> f64 {
+        let energies: Vec<f64> = with_material!(&self.material, m => (0..self.mesh.element_count())
+            .into_par_iter()
+            .with_min_len(ELEMENTS_PER_TASK)
+            .map(|e| self.mesh.rest_elements()[e].volume * m.energy_density(&self.mesh.deformation_gradient(e, x)))
+            .collect());
+        // A sequential sum: the same order whatever the thread count.
+        energies.iter().sum()
+    }
+
+    fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
+        let slots = with_material!(&self.material, m => self.element_gradients(m, x));
+        gradient.par_iter_mut().with_min_len(ELEMENTS_PER_TASK).enumerate().for_each(|(v, g)| {
+            for &slot in &self.vertex_slots[self.vertex_slot_offsets[v]..self.vertex_slot_offsets[v + 1]] {
+                *g += slots[slot] * scale;
+            }
+        });
+    }
+
+    fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
+        let size = D * (D + 1);
+        let buffer = hessian.element_buffer_mut();
+        with_material!(&self.material, m => buffer
+            .par_chunks_mut(size * size)
+            .with_min_len(ELEMENTS_PER_TASK / 4)
+            .enumerate()
+            .for_each(|(e, slot)| slot.copy_from_slice(self.element_hessian(m, e, x, scale).as_slice())));
+        hessian.gather_element_buffer();
+    }
+
+    /// For a material that forbids inversion, the first `t` where some
+    /// `det(D_s + t dD_s)` (a polynomial of degree `D` in `t`) reaches zero,
+    /// times [`INVERSION_STEP_FRACTION`]; otherwise 1.
+    fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+        let forbids = with_material!(&self.material, m => HyperelasticMaterial::<D>::forbids_inversion(m));
+        if !forbids {
+            return 1.0;
+        }
+        let caps: Vec<f64> = self
+            .mesh
+            .simplices()
+            .collect::<Vec<_>>()
+            .par_iter()
+            .with_min_len(ELEMENTS_PER_TASK)
+            .map(|simplex| {
+                let ds = edge_matrix(x, simplex);
+                let dds = edge_matrix(dx, simplex);
+                let volume = Polynomial::interpolate(D, |t| determinant(&(ds + dds * t)));
+                first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t)
+            })
+            .collect();
+        caps.into_iter().fold(1.0, f64::min)
+    }
+}

@@ -1,0 +1,261 @@
+//! The global sparse Hessian over the free degrees of freedom, and its Cholesky solve.
+//!
+//! The sparsity pattern (vertex pairs that share an element, and the diagonal
+//! blocks) is fixed by the mesh, so it is built once together with the
+//! symbolic Cholesky factorisation (faer, AMD ordering); each Newton iteration
+//! only refills the values and refactors numerically. Only the lower triangle
+//! is stored. Pinned vertices are eliminated: they own no rows or columns.
+//!
+//! Assembly is deterministic in parallel: element Hessians are written into
+//! per-element slots, and every stored entry then sums its contributions from
+//! those slots in a precomputed order (a "gather"), so no two threads ever add
+//! into the same number and the order of additions never depends on the
+//! thread count.
+
+use crate::math::{Matrix, Vector};
+use crate::mesh::Mesh;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+use rayon::prelude::*;
+
+/// Entries per rayon task in the gather.
+const ENTRIES_PER_TASK: usize = 4096;
+
+/// Marker for an upper-triangle entry of a diagonal block (not stored).
+const NOT_STORED: usize = usize::MAX;
+
+/// The factorisation failed: the matrix is not numerically positive definite.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("sparse Cholesky factorisation failed: {0}")]
+pub struct FactorisationError(pub String);
+
+/// A symmetric sparse matrix over the free degrees of freedom of a mesh.
+pub struct SparseHessian<const D: usize> {
+    /// Vertex -> free vertex index.
+    free_index: Vec<Option<usize>>,
+    dofs: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+    /// Per free vertex, `D x D` value indices of its diagonal block (column-major), lower part only.
+    diagonal_block_entries: Vec<usize>,
+    /// Element Hessian slots, `(D (D+1))^2` per element, column-major.
+    element_buffer: Vec<f64>,
+    /// For each stored value, its sources in `element_buffer` (CSR).
+    gather_offsets: Vec<usize>,
+    gather_sources: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    factor_values: Vec<f64>,
+    workspace: MemBuffer,
+}
+
+impl<const D: usize> SparseHessian<D> {
+    /// The pattern of `mesh` with the vertices for which `free_index` is `Some` as unknowns.
+    pub fn new(mesh: &Mesh<D>, free_index: Vec<Option<usize>>) -> Result<Self, FactorisationError> {
+        let free_count = free_index.iter().flatten().count();
+        let dofs = free_count * D;
+        // Neighbouring free vertices with a larger or equal free index, per free vertex.
+        let mut neighbours: Vec<Vec<usize>> = (0..free_count).map(|f| vec![f]).collect();
+        for simplex in mesh.simplices() {
+            for &u in simplex {
+                for &w in simplex {
+                    if let (Some(fu), Some(fw)) = (free_index[u], free_index[w])
+                        && fw > fu
+                    {
+                        neighbours[fu].push(fw);
+                    }
+                }
+            }
+        }
+        for list in &mut neighbours {
+            list.sort_unstable();
+            list.dedup();
+        }
+        let mut col_ptr = Vec::with_capacity(dofs + 1);
+        let mut row_idx = Vec::new();
+        col_ptr.push(0);
+        for (fv, list) in neighbours.iter().enumerate() {
+            for k in 0..D {
+                let col = fv * D + k;
+                for &fw in list {
+                    for i in 0..D {
+                        let row = fw * D + i;
+                        if row >= col {
+                            row_idx.push(row);
+                        }
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let entry = |row: usize, col: usize| -> usize {
+            let column = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+            col_ptr[col] + column.binary_search(&row).expect("entry in pattern")
+        };
+        let mut diagonal_block_entries = vec![NOT_STORED; free_count * D * D];
+        for fv in 0..free_count {
+            for j in 0..D {
+                for i in j..D {
+                    diagonal_block_entries[fv * D * D + j * D + i] = entry(fv * D + i, fv * D + j);
+                }
+            }
+        }
+        // Gather lists: element-local entry (p, q) -> stored entry (row >= col).
+        let size = D * (D + 1);
+        let mut contributions: Vec<(usize, usize)> = Vec::new();
+        for (e, simplex) in mesh.simplices().enumerate() {
+            for q in 0..size {
+                let Some(fb) = free_index[simplex[q / D]] else { continue };
+                let col = fb * D + q % D;
+                for p in 0..size {
+                    let Some(fa) = free_index[simplex[p / D]] else { continue };
+                    let row = fa * D + p % D;
+                    if row >= col {
+                        contributions.push((entry(row, col), e * size * size + q * size + p));
+                    }
+                }
+            }
+        }
+        // Stable sort by target keeps element order within each entry.
+        contributions.sort_by_key(|&(target, _)| target);
+        let mut gather_offsets = vec![0usize; row_idx.len() + 1];
+        for &(target, _) in &contributions {
+            gather_offsets[target + 1] += 1;
+        }
+        for t in 0..row_idx.len() {
+            gather_offsets[t + 1] += gather_offsets[t];
+        }
+        let gather_sources = contributions.into_iter().map(|(_, source)| source).collect();
+
+        let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, &col_ptr, None, &row_idx);
+        let symbolic = factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, CholeskySymbolicParams::default())
+            .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        let factor_values = vec![0.0; symbolic.len_val()];
+        let workspace = MemBuffer::new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()).or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+        );
+        let values = vec![0.0; row_idx.len()];
+        Ok(Self {
+            free_index,
+            dofs,
+            col_ptr,
+            row_idx,
+            values,
+            diagonal_block_entries,
+            element_buffer: vec![0.0; mesh.element_count() * size * size],
+            gather_offsets,
+            gather_sources,
+            symbolic,
+            factor_values,
+            workspace,
+        })
+    }
+
+    /// Number of scalar unknowns.
+    pub fn dofs(&self) -> usize {
+        self.dofs
+    }
+
+    /// Stored (lower-triangle) non-zeros.
+    pub fn non_zeros(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Vertex -> free vertex index.
+    pub fn free_index(&self) -> &[Option<usize>] {
+        &self.free_index
+    }
+
+    /// Sets every value to zero (the pattern stays).
+    pub fn clear(&mut self) {
+        self.values.iter_mut().for_each(|v| *v = 0.0);
+    }
+
+    /// Adds `block` to the diagonal block of `vertex` (ignored for a pinned vertex).
+    pub fn add_vertex_block(&mut self, vertex: usize, block: &Matrix<D>) {
+        let Some(fv) = self.free_index[vertex] else { return };
+        for j in 0..D {
+            for i in j..D {
+                self.values[self.diagonal_block_entries[fv * D * D + j * D + i]] += block[(i, j)];
+            }
+        }
+    }
+
+    /// Per-element slots for element Hessians: `(D (D+1))^2` values per
+    /// element, column-major, local unknown `a D + k` for vertex `a`, axis `k`.
+    pub fn element_buffer_mut(&mut self) -> &mut [f64] {
+        &mut self.element_buffer
+    }
+
+    /// Adds the element slots into the stored values (deterministic, parallel).
+    pub fn gather_element_buffer(&mut self) {
+        let (offsets, sources, buffer) = (&self.gather_offsets, &self.gather_sources, &self.element_buffer);
+        self.values.par_iter_mut().with_min_len(ENTRIES_PER_TASK).enumerate().for_each(|(t, value)| {
+            for &source in &sources[offsets[t]..offsets[t + 1]] {
+                *value += buffer[source];
+            }
+        });
+    }
+
+    /// The full symmetric matrix as dense (for tests and small problems).
+    pub fn to_dense(&self) -> nalgebra::DMatrix<f64> {
+        let mut dense = nalgebra::DMatrix::zeros(self.dofs, self.dofs);
+        for col in 0..self.dofs {
+            for t in self.col_ptr[col]..self.col_ptr[col + 1] {
+                let row = self.row_idx[t];
+                dense[(row, col)] = self.values[t];
+                dense[(col, row)] = self.values[t];
+            }
+        }
+        dense
+    }
+
+    /// Copies per-vertex vectors of free vertices into a flat unknown vector.
+    pub fn gather_free(&self, per_vertex: &[Vector<D>], flat: &mut [f64]) {
+        for (v, fv) in self.free_index.iter().enumerate() {
+            if let Some(fv) = fv {
+                flat[fv * D..fv * D + D].copy_from_slice(per_vertex[v].as_slice());
+            }
+        }
+    }
+
+    /// Spreads a flat unknown vector to per-vertex vectors (zero for pinned vertices).
+    pub fn scatter_free(&self, flat: &[f64], per_vertex: &mut [Vector<D>]) {
+        for (v, fv) in self.free_index.iter().enumerate() {
+            per_vertex[v] = match fv {
+                Some(fv) => Vector::<D>::from_column_slice(&flat[fv * D..fv * D + D]),
+                None => Vector::<D>::zeros(),
+            };
+        }
+    }
+
+    /// Factorises the current values (reusing the symbolic factorisation) and
+    /// solves `H x = rhs` in place. Sequential, so results do not depend on
+    /// the thread count.
+    pub fn factor_and_solve(&mut self, rhs: &mut [f64]) -> Result<(), FactorisationError> {
+        let matrix = SparseColMatRef::new(
+            SymbolicSparseColMatRef::new_checked(self.dofs, self.dofs, &self.col_ptr, None, &self.row_idx),
+            &self.values,
+        );
+        let stack = MemStack::new(&mut self.workspace);
+        let llt = self
+            .symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut self.factor_values,
+                matrix,
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        let stack = MemStack::new(&mut self.workspace);
+        let n = rhs.len();
+        llt.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(rhs, n, 1), Par::Seq, stack);
+        Ok(())
+    }
+}

@@ -1,0 +1,244 @@
+//! Every gradient and Hessian against central finite differences, in 2D and 3D.
+//!
+//! Each check is a generic function stamped out for both dimensions by
+//! `both_dimensions!`; the relative error bound is 1e-6 throughout.
+
+mod support;
+
+use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
+use elasto::material::{HyperelasticMaterial, Material, NeoHookean, StVenantKirchhoff};
+use elasto::math::{DenseMatrix, Matrix, Vector, project_to_psd};
+use elasto::mesh::Mesh;
+use elasto::solver::SparseHessian;
+use std::sync::Arc;
+use support::*;
+
+const TOLERANCE: f64 = 1e-6;
+
+macro_rules! both_dimensions {
+    ($($check:ident => $name2:ident, $name3:ident;)*) => {$(
+        #[test]
+        fn $name2() {
+            $check::<2>();
+        }
+        #[test]
+        fn $name3() {
+            $check::<3>();
+        }
+    )*};
+}
+
+both_dimensions! {
+    stress_is_the_energy_derivative => stress_is_the_energy_derivative_2d, stress_is_the_energy_derivative_3d;
+    stress_derivative_is_the_stress_derivative => stress_derivative_2d, stress_derivative_3d;
+    elastic_gradient_matches_finite_differences => elastic_gradient_2d, elastic_gradient_3d;
+    element_hessian_matches_finite_differences => element_hessian_2d, element_hessian_3d;
+    assembled_hessian_is_the_sum_of_projected_element_hessians => assembled_hessian_2d, assembled_hessian_3d;
+    inertia_gravity_barrier_match_finite_differences => effect_terms_2d, effect_terms_3d;
+}
+
+fn materials() -> [(&'static str, Material); 2] {
+    [("stvk", stvk()), ("neo-hookean", neo_hookean())]
+}
+
+fn for_each_material<const D: usize>(mut check: impl FnMut(&str, &dyn HyperelasticMaterial<D>)) {
+    let lame = lame();
+    check("stvk", &StVenantKirchhoff { lame });
+    check("neo-hookean", &NeoHookean { lame });
+}
+
+fn stress_is_the_energy_derivative<const D: usize>() {
+    let mut rng = Rng::new(1);
+    for_each_material::<D>(|name, material| {
+        for _ in 0..5 {
+            let f = random_f::<D>(&mut rng, 0.3);
+            let p = material.first_piola(&f);
+            let h = 1e-6;
+            for k in 0..D {
+                for l in 0..D {
+                    let mut plus = f;
+                    plus[(k, l)] += h;
+                    let mut minus = f;
+                    minus[(k, l)] -= h;
+                    let fd = (material.energy_density(&plus) - material.energy_density(&minus)) / (2.0 * h);
+                    let err = relative_error(p[(k, l)], fd, p.amax());
+                    assert!(err < TOLERANCE, "{name} {D}D: P[{k},{l}] = {} vs finite difference {fd} (rel. error {err:e})", p[(k, l)]);
+                }
+            }
+        }
+    });
+}
+
+fn stress_derivative_is_the_stress_derivative<const D: usize>() {
+    let mut rng = Rng::new(2);
+    for_each_material::<D>(|name, material| {
+        for _ in 0..5 {
+            let f = random_f::<D>(&mut rng, 0.3);
+            let dp = material.first_piola_derivative(&f);
+            let scale = dp.iter().flatten().map(|m| m.amax()).fold(0.0, f64::max);
+            let h = 1e-6;
+            for k in 0..D {
+                for l in 0..D {
+                    let mut plus = f;
+                    plus[(k, l)] += h;
+                    let mut minus = f;
+                    minus[(k, l)] -= h;
+                    let fd: Matrix<D> = (material.first_piola(&plus) - material.first_piola(&minus)) / (2.0 * h);
+                    let err = (dp[k][l] - fd).amax() / scale;
+                    assert!(err < TOLERANCE, "{name} {D}D: dP/dF[{k}][{l}] rel. error {err:e}");
+                }
+            }
+        }
+    });
+}
+
+/// Central-difference gradient of `term` at `x`, one vector per vertex.
+fn finite_difference_gradient<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vector<D>], h: f64) -> Vec<f64> {
+    let mut out = Vec::with_capacity(x.len() * D);
+    let mut probe = x.to_vec();
+    for v in 0..x.len() {
+        for k in 0..D {
+            probe[v][k] = x[v][k] + h;
+            let plus = term.value(&probe);
+            probe[v][k] = x[v][k] - h;
+            let minus = term.value(&probe);
+            probe[v][k] = x[v][k];
+            out.push((plus - minus) / (2.0 * h));
+        }
+    }
+    out
+}
+
+fn analytic_gradient<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vector<D>]) -> Vec<f64> {
+    let mut gradient = vec![Vector::<D>::zeros(); x.len()];
+    term.add_gradient(x, 1.0, &mut gradient);
+    gradient.iter().flat_map(|g| g.iter().copied().collect::<Vec<_>>()).collect()
+}
+
+/// Central-difference Hessian of `term` (differences of its analytic gradient).
+fn finite_difference_hessian<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vector<D>], h: f64) -> DenseMatrix {
+    let n = x.len() * D;
+    let mut out = DenseMatrix::zeros(n, n);
+    let mut probe = x.to_vec();
+    for v in 0..x.len() {
+        for k in 0..D {
+            probe[v][k] = x[v][k] + h;
+            let plus = analytic_gradient(term, &probe);
+            probe[v][k] = x[v][k] - h;
+            let minus = analytic_gradient(term, &probe);
+            probe[v][k] = x[v][k];
+            for row in 0..n {
+                out[(row, v * D + k)] = (plus[row] - minus[row]) / (2.0 * h);
+            }
+        }
+    }
+    out
+}
+
+fn assembled_hessian<const D: usize>(term: &dyn EnergyTerm<D>, mesh: &Mesh<D>, x: &[Vector<D>]) -> DenseMatrix {
+    let mut hessian = SparseHessian::new(mesh, (0..mesh.vertex_count()).map(Some).collect()).unwrap();
+    term.add_hessian(x, 1.0, &mut hessian);
+    hessian.to_dense()
+}
+
+fn elastic_gradient_matches_finite_differences<const D: usize>() {
+    let mut rng = Rng::new(3);
+    let mesh = Arc::new(unit_box::<D>());
+    for (name, material) in materials() {
+        let elasticity = Elasticity::new(mesh.clone(), material);
+        let x = perturbed(mesh.rest_positions(), 0.08, &mut rng);
+        let analytic = analytic_gradient(&elasticity, &x);
+        let fd = finite_difference_gradient(&elasticity, &x, 1e-6);
+        let err = max_relative_error(&analytic, &fd);
+        assert!(err < TOLERANCE, "{name} {D}D: elastic gradient rel. error {err:e}");
+    }
+}
+
+fn element_hessian_matches_finite_differences<const D: usize>() {
+    let mut rng = Rng::new(4);
+    // One simplex: the global Hessian is the element Hessian.
+    let rest: Vec<Vector<D>> = (0..=D).map(|a| if a == 0 { Vector::<D>::zeros() } else { Vector::<D>::from_fn(|k, _| if k == a - 1 { 1.0 } else { 0.0 }) }).collect();
+    let mesh = Arc::new(Mesh::new(rest, vec![(0..=D).collect()]).unwrap());
+    for (name, material) in materials() {
+        let elasticity = Elasticity::new(mesh.clone(), material);
+        for _ in 0..5 {
+            let x = perturbed(mesh.rest_positions(), 0.15, &mut rng);
+            let analytic = elasticity.unprojected_element_hessian(0, &x);
+            let fd = finite_difference_hessian(&elasticity, &x, 1e-6);
+            let err = (&analytic - &fd).amax() / fd.amax();
+            assert!(err < TOLERANCE, "{name} {D}D: element Hessian rel. error {err:e}");
+            assert!((&analytic - analytic.transpose()).amax() <= 1e-12 * analytic.amax(), "{name}: Hessian not symmetric");
+        }
+    }
+}
+
+fn assembled_hessian_is_the_sum_of_projected_element_hessians<const D: usize>() {
+    let mut rng = Rng::new(5);
+    let mesh = Arc::new(unit_box::<D>());
+    for (name, material) in materials() {
+        let elasticity = Elasticity::new(mesh.clone(), material);
+        // Strong compression of some elements makes StVK element Hessians indefinite.
+        let x: Vec<Vector<D>> = perturbed(mesh.rest_positions(), 0.12, &mut rng).iter().map(|p| {
+            let mut q = *p;
+            q[1] *= 0.6;
+            q
+        }).collect();
+        let n = mesh.vertex_count() * D;
+        let mut expected = DenseMatrix::zeros(n, n);
+        let mut clamped_any = false;
+        for (e, simplex) in mesh.simplices().enumerate() {
+            let mut local = elasticity.unprojected_element_hessian(e, &x);
+            clamped_any |= project_to_psd(&mut local);
+            for p in 0..local.nrows() {
+                for q in 0..local.ncols() {
+                    expected[(simplex[p / D] * D + p % D, simplex[q / D] * D + q % D)] += local[(p, q)];
+                }
+            }
+        }
+        let assembled = assembled_hessian(&elasticity, &mesh, &x);
+        let err = (&assembled - &expected).amax() / expected.amax();
+        assert!(err < 1e-12, "{name} {D}D: assembly differs from the element sum by {err:e}");
+        let min_eigenvalue = assembled.clone().symmetric_eigenvalues().min();
+        assert!(min_eigenvalue > -1e-10 * assembled.amax(), "{name} {D}D: assembled Hessian not PSD ({min_eigenvalue:e})");
+        if name == "stvk" {
+            assert!(clamped_any, "the compressed StVK state should exercise the projection");
+        }
+    }
+}
+
+fn inertia_gravity_barrier_match_finite_differences<const D: usize>() {
+    let mut rng = Rng::new(6);
+    let mesh = unit_box::<D>();
+    let masses = mesh.lumped_masses(2.5);
+    // Lift the box so that its bottom row sits inside the barrier (0 < gap < a).
+    let a = 0.2;
+    let x: Vec<Vector<D>> = perturbed(mesh.rest_positions(), 0.02, &mut rng)
+        .into_iter()
+        .map(|mut p| {
+            p[1] += 0.1;
+            p
+        })
+        .collect();
+    let mut inertia = Inertia::new(masses.clone());
+    inertia.set_prediction(&perturbed(&x, 0.3, &mut rng));
+    let gravity = Gravity::new(masses.clone(), Vector::<D>::from_fn(|k, _| if k == 1 { -9.81 } else { 0.5 }));
+    let barrier = GroundBarrier::new(0.0, a, 50.0);
+    let inside = x.iter().filter(|p| p[1] < a).count();
+    assert!(inside >= 3, "the test state must exercise the barrier");
+    let terms: [(&str, &dyn EnergyTerm<D>); 3] = [("inertia", &inertia), ("gravity", &gravity), ("barrier", &barrier)];
+    for (name, term) in terms {
+        let analytic = analytic_gradient(term, &x);
+        let fd = finite_difference_gradient(term, &x, 1e-6);
+        let err = max_relative_error(&analytic, &fd);
+        assert!(err < TOLERANCE, "{name} {D}D: gradient rel. error {err:e}");
+        let fd_hessian = finite_difference_hessian(term, &x, 1e-6);
+        let assembled = assembled_hessian(term, &mesh, &x);
+        let err = (&assembled - &fd_hessian).amax() / fd_hessian.amax().max(1e-300);
+        if name == "gravity" {
+            assert_eq!(assembled.amax(), 0.0, "gravity is linear");
+            assert!(fd_hessian.amax() < 1e-6);
+        } else {
+            assert!(err < TOLERANCE, "{name} {D}D: Hessian rel. error {err:e}");
+        }
+    }
+}

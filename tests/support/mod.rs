@@ -1,0 +1,60 @@
+//! Shared helpers for the simulation-core tests.
+#![allow(dead_code)]
+
+use elasto::material::{LameParameters, Material, NeoHookean, StVenantKirchhoff, YoungPoisson};
+use elasto::math::{Matrix, Vector};
+use elasto::mesh::Mesh;
+
+/// A tiny deterministic generator (xorshift), so tests need no extra crate.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Self(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+    /// Uniform in [-1, 1).
+    pub fn next(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+pub fn lame() -> LameParameters {
+    YoungPoisson { young: 100.0, poisson: 0.3 }.into()
+}
+
+pub fn stvk() -> Material {
+    Material::StVenantKirchhoff(StVenantKirchhoff { lame: lame() })
+}
+
+pub fn neo_hookean() -> Material {
+    Material::NeoHookean(NeoHookean { lame: lame() })
+}
+
+/// A unit box with 2 cells per axis.
+pub fn unit_box<const D: usize>() -> Mesh<D> {
+    Mesh::axis_aligned_box(Vector::<D>::zeros(), Vector::<D>::from_element(1.0), [2; D]).unwrap()
+}
+
+/// Rest positions perturbed by up to `amplitude` per component (keeps elements uninverted for small amplitudes).
+pub fn perturbed<const D: usize>(x: &[Vector<D>], amplitude: f64, rng: &mut Rng) -> Vec<Vector<D>> {
+    x.iter().map(|p| p + Vector::<D>::from_fn(|_, _| amplitude * rng.next())).collect()
+}
+
+/// A random deformation gradient near identity with positive determinant.
+pub fn random_f<const D: usize>(rng: &mut Rng, amplitude: f64) -> Matrix<D> {
+    Matrix::<D>::identity() + Matrix::<D>::from_fn(|_, _| amplitude * rng.next())
+}
+
+/// Relative error `|a - b| / max(|b|, floor)`.
+pub fn relative_error(a: f64, b: f64, floor: f64) -> f64 {
+    (a - b).abs() / b.abs().max(floor)
+}
+
+/// Max-norm relative error of two equal-length slices, relative to the max entry of `reference`.
+pub fn max_relative_error(actual: &[f64], reference: &[f64]) -> f64 {
+    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
+    actual.iter().zip(reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale
+}
