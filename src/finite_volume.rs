@@ -31,15 +31,25 @@ use crate::mesh::Mesh;
 /// columns of `det(D_m) D_m^{-T}` are the area-weighted normals (times
 /// `(D-1)!`) of the faces through vertex 0; the face opposite vertex 0 closes
 /// the sum to zero.
-pub fn face_area_normal<const D: usize>(rest: &[Vector<D>], simplex: &[usize], opposite: usize) -> Vector<D> {
+pub fn face_area_normal<const D: usize>(
+    rest: &[Vector<D>],
+    simplex: &[usize],
+    opposite: usize,
+) -> Vector<D> {
     let origin = rest[simplex[0]];
     let dm = Matrix::<D>::from_fn(|row, col| rest[simplex[col + 1]][row] - origin[row]);
     let det = determinant(&dm);
-    let dm_inv_t = crate::math::inverse(&dm).expect("non-degenerate rest element").transpose();
+    let dm_inv_t = crate::math::inverse(&dm)
+        .expect("non-degenerate rest element")
+        .transpose();
     let factorial: f64 = (1..D).map(|k| k as f64).product();
     // Face opposite local vertex a >= 1 has inward normal along column a-1 of D_m^{-T}.
     let normal_of = |a: usize| -> Vector<D> { -dm_inv_t.column(a - 1) * (det / factorial) };
-    if opposite == 0 { -(1..=D).map(normal_of).sum::<Vector<D>>() } else { normal_of(opposite) }
+    if opposite == 0 {
+        -(1..=D).map(normal_of).sum::<Vector<D>>()
+    } else {
+        normal_of(opposite)
+    }
 }
 
 /// The report's sum `sum_E P n_E A_E` per vertex, exactly as written (without
@@ -65,5 +75,8 @@ pub fn finite_volume_forces<const D: usize, M: HyperelasticMaterial<D>>(
     material: &M,
     x: &[Vector<D>],
 ) -> Vec<Vector<D>> {
-    report_face_sum(mesh, material, x).into_iter().map(|s| s / D as f64).collect()
+    report_face_sum(mesh, material, x)
+        .into_iter()
+        .map(|s| s / D as f64)
+        .collect()
 }

@@ -7,6 +7,8 @@
 //! [`solver`], [`sim`]) knows nothing about rendering; the renderer
 //! ([`render`]) knows nothing about materials.
 #![warn(missing_docs)]
+// `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 // Simulation core.
 pub mod energy;

@@ -20,7 +20,7 @@
 //! A 2D body is read as plane strain: the same formulas, the out-of-plane
 //! strain held at zero.
 
-use crate::math::{Matrix, StressDerivative, determinant, inverse, zero_stress_derivative};
+use crate::math::{Matrix, StressDerivative, determinant, inverse};
 use serde::{Deserialize, Serialize};
 
 /// Lame parameters, in pascals (or the scene's unit of stress).
@@ -44,14 +44,20 @@ pub struct YoungPoisson {
 impl From<YoungPoisson> for LameParameters {
     fn from(p: YoungPoisson) -> Self {
         let (e, nu) = (p.young, p.poisson);
-        Self { mu: e / (2.0 * (1.0 + nu)), lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)) }
+        Self {
+            mu: e / (2.0 * (1.0 + nu)),
+            lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+        }
     }
 }
 
 impl From<LameParameters> for YoungPoisson {
     fn from(p: LameParameters) -> Self {
         let (mu, lambda) = (p.mu, p.lambda);
-        Self { young: mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu), poisson: lambda / (2.0 * (lambda + mu)) }
+        Self {
+            young: mu * (3.0 * lambda + 2.0 * mu) / (lambda + mu),
+            poisson: lambda / (2.0 * (lambda + mu)),
+        }
     }
 }
 
@@ -110,16 +116,13 @@ impl<const D: usize> HyperelasticMaterial<D> for StVenantKirchhoff {
 
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
         let s = self.second_piola(&Self::green_strain(f));
-        let mut dp = zero_stress_derivative::<D>();
-        for k in 0..D {
-            for l in 0..D {
+        std::array::from_fn(|k| {
+            std::array::from_fn(|l| {
                 let df = unit::<D>(k, l);
                 let de = (df.transpose() * f + f.transpose() * df) * 0.5;
-                let ds = self.second_piola(&de);
-                dp[k][l] = df * s + f * ds;
-            }
-        }
-        dp
+                df * s + f * self.second_piola(&de)
+            })
+        })
     }
 
     fn forbids_inversion(&self) -> bool {
@@ -150,22 +153,20 @@ impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
 
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
         let j = determinant(f);
-        let mut dp = zero_stress_derivative::<D>();
         let Some(f_inv) = inverse(f).filter(|_| j > 0.0) else {
             return [[Matrix::<D>::from_element(f64::NAN); D]; D];
         };
         let f_inv_t = f_inv.transpose();
         let LameParameters { mu, lambda } = self.lame;
         let ln_j = j.ln();
-        for k in 0..D {
-            for l in 0..D {
+        std::array::from_fn(|k| {
+            std::array::from_fn(|l| {
                 let df = unit::<D>(k, l);
-                dp[k][l] = df * mu
+                df * mu
                     + f_inv_t * df.transpose() * f_inv_t * (mu - lambda * ln_j)
-                    + f_inv_t * (lambda * (f_inv * df).trace());
-            }
-        }
-        dp
+                    + f_inv_t * (lambda * (f_inv * df).trace())
+            })
+        })
     }
 
     fn forbids_inversion(&self) -> bool {

@@ -16,7 +16,9 @@ use std::collections::HashMap;
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
     /// A simplex has zero or negative rest volume.
-    #[error("element {element} with vertices {vertices:?} is {kind} at rest (signed volume {volume:.3e})")]
+    #[error(
+        "element {element} with vertices {vertices:?} is {kind} at rest (signed volume {volume:.3e})"
+    )]
     BadRestElement {
         /// Element index.
         element: usize,
@@ -28,7 +30,9 @@ pub enum MeshError {
         volume: f64,
     },
     /// A simplex names a vertex that does not exist.
-    #[error("element {element} refers to vertex {vertex}, but the mesh has only {vertex_count} vertices")]
+    #[error(
+        "element {element} refers to vertex {vertex}, but the mesh has only {vertex_count} vertices"
+    )]
     VertexOutOfRange {
         /// Element index.
         element: usize,
@@ -68,31 +72,56 @@ impl<const D: usize> Mesh<D> {
     pub const NODES: usize = simplex_vertices(D);
 
     /// Builds a mesh from rest positions and simplices, checking every element.
-    pub fn new(rest_positions: Vec<Vector<D>>, simplices: Vec<Vec<usize>>) -> Result<Self, MeshError> {
+    pub fn new(
+        rest_positions: Vec<Vector<D>>,
+        simplices: Vec<Vec<usize>>,
+    ) -> Result<Self, MeshError> {
         if simplices.is_empty() {
             return Err(MeshError::Empty);
         }
         let mut flat = Vec::with_capacity(simplices.len() * Self::NODES);
         let mut rest_elements = Vec::with_capacity(simplices.len());
         for (element, simplex) in simplices.iter().enumerate() {
-            assert_eq!(simplex.len(), Self::NODES, "a simplex in {D}D has {} vertices", Self::NODES);
+            assert_eq!(
+                simplex.len(),
+                Self::NODES,
+                "a simplex in {D}D has {} vertices",
+                Self::NODES
+            );
             for &vertex in simplex {
                 if vertex >= rest_positions.len() {
-                    return Err(MeshError::VertexOutOfRange { element, vertex, vertex_count: rest_positions.len() });
+                    return Err(MeshError::VertexOutOfRange {
+                        element,
+                        vertex,
+                        vertex_count: rest_positions.len(),
+                    });
                 }
             }
             let dm = edge_matrix(&rest_positions, simplex);
             let volume = determinant(&dm) / factorial(D);
             let scale = (0..D).map(|c| dm.column(c).norm()).product::<f64>() / factorial(D);
             if !(volume > 1e-12 * scale) {
-                let kind = if volume < 0.0 && volume.abs() > 1e-12 * scale { "inverted" } else { "degenerate" };
-                return Err(MeshError::BadRestElement { element, vertices: simplex.clone(), kind, volume });
+                let kind = if volume < 0.0 && volume.abs() > 1e-12 * scale {
+                    "inverted"
+                } else {
+                    "degenerate"
+                };
+                return Err(MeshError::BadRestElement {
+                    element,
+                    vertices: simplex.clone(),
+                    kind,
+                    volume,
+                });
             }
             let dm_inv = inverse(&dm).expect("non-degenerate edge matrix is invertible");
             flat.extend_from_slice(simplex);
             rest_elements.push(RestElement { dm_inv, volume });
         }
-        Ok(Self { rest_positions, simplices: flat, rest_elements })
+        Ok(Self {
+            rest_positions,
+            simplices: flat,
+            rest_elements,
+        })
     }
 
     /// An axis-aligned box from `min` to `max` with `cells[i]` cells along axis `i`.
@@ -101,13 +130,20 @@ impl<const D: usize> Mesh<D> {
     /// triangulation: one simplex per permutation of the axes, walking from the
     /// cell's lowest corner to its highest. In 2D that is 2 triangles per cell,
     /// in 3D 6 tetrahedra; neighbouring cells share faces conformingly.
-    pub fn axis_aligned_box(min: Vector<D>, max: Vector<D>, cells: [usize; D]) -> Result<Self, MeshError> {
+    pub fn axis_aligned_box(
+        min: Vector<D>,
+        max: Vector<D>,
+        cells: [usize; D],
+    ) -> Result<Self, MeshError> {
         for axis in 0..D {
             if cells[axis] == 0 {
                 return Err(MeshError::InvalidBox(format!("axis {axis} has zero cells")));
             }
             if !(max[axis] > min[axis]) || !max[axis].is_finite() || !min[axis].is_finite() {
-                return Err(MeshError::InvalidBox(format!("axis {axis}: max {} must exceed min {}", max[axis], min[axis])));
+                return Err(MeshError::InvalidBox(format!(
+                    "axis {axis}: max {} must exceed min {}",
+                    max[axis], min[axis]
+                )));
             }
         }
         let points_per_axis: [usize; D] = std::array::from_fn(|a| cells[a] + 1);
@@ -206,7 +242,12 @@ impl<const D: usize> Mesh<D> {
         let mut count: HashMap<Vec<usize>, usize> = HashMap::new();
         for simplex in self.simplices() {
             for opposite in 0..Self::NODES {
-                let mut key: Vec<usize> = simplex.iter().enumerate().filter(|&(i, _)| i != opposite).map(|(_, &v)| v).collect();
+                let mut key: Vec<usize> = simplex
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| i != opposite)
+                    .map(|(_, &v)| v)
+                    .collect();
                 key.sort_unstable();
                 *count.entry(key).or_insert(0) += 1;
             }
@@ -214,7 +255,12 @@ impl<const D: usize> Mesh<D> {
         let mut facets = Vec::new();
         for simplex in self.simplices() {
             for opposite in 0..Self::NODES {
-                let mut facet: Vec<usize> = simplex.iter().enumerate().filter(|&(i, _)| i != opposite).map(|(_, &v)| v).collect();
+                let mut facet: Vec<usize> = simplex
+                    .iter()
+                    .enumerate()
+                    .filter(|&(i, _)| i != opposite)
+                    .map(|(_, &v)| v)
+                    .collect();
                 let mut key = facet.clone();
                 key.sort_unstable();
                 if count[&key] != 1 {
@@ -224,7 +270,10 @@ impl<const D: usize> Mesh<D> {
                 // i.e. the facet normal points away from the opposite vertex.
                 let mut with_apex = facet.clone();
                 with_apex.push(simplex[opposite]);
-                if determinant(&edge_matrix(&self.rest_positions, &with_apex)) * sign_for_dimension(D) < 0.0 {
+                if determinant(&edge_matrix(&self.rest_positions, &with_apex))
+                    * sign_for_dimension(D)
+                    < 0.0
+                {
                     facet.swap(0, 1);
                 }
                 facets.push(std::array::from_fn(|i| facet[i]));
@@ -238,7 +287,7 @@ impl<const D: usize> Mesh<D> {
 /// simplex `(f_0, .., f_{D-1}, p)` has this sign times a positive determinant
 /// when `f` is counter-clockwise seen from outside.
 fn sign_for_dimension(d: usize) -> f64 {
-    if d % 2 == 0 { 1.0 } else { -1.0 }
+    if d.is_multiple_of(2) { 1.0 } else { -1.0 }
 }
 
 /// The edge matrix `[x_1 - x_0, ..., x_D - x_0]` of a simplex.

@@ -60,9 +60,14 @@ fn stress_is_the_energy_derivative<const D: usize>() {
                     plus[(k, l)] += h;
                     let mut minus = f;
                     minus[(k, l)] -= h;
-                    let fd = (material.energy_density(&plus) - material.energy_density(&minus)) / (2.0 * h);
+                    let fd = (material.energy_density(&plus) - material.energy_density(&minus))
+                        / (2.0 * h);
                     let err = relative_error(p[(k, l)], fd, p.amax());
-                    assert!(err < TOLERANCE, "{name} {D}D: P[{k},{l}] = {} vs finite difference {fd} (rel. error {err:e})", p[(k, l)]);
+                    assert!(
+                        err < TOLERANCE,
+                        "{name} {D}D: P[{k},{l}] = {} vs finite difference {fd} (rel. error {err:e})",
+                        p[(k, l)]
+                    );
                 }
             }
         }
@@ -83,9 +88,13 @@ fn stress_derivative_is_the_stress_derivative<const D: usize>() {
                     plus[(k, l)] += h;
                     let mut minus = f;
                     minus[(k, l)] -= h;
-                    let fd: Matrix<D> = (material.first_piola(&plus) - material.first_piola(&minus)) / (2.0 * h);
+                    let fd: Matrix<D> =
+                        (material.first_piola(&plus) - material.first_piola(&minus)) / (2.0 * h);
                     let err = (dp[k][l] - fd).amax() / scale;
-                    assert!(err < TOLERANCE, "{name} {D}D: dP/dF[{k}][{l}] rel. error {err:e}");
+                    assert!(
+                        err < TOLERANCE,
+                        "{name} {D}D: dP/dF[{k}][{l}] rel. error {err:e}"
+                    );
                 }
             }
         }
@@ -93,7 +102,11 @@ fn stress_derivative_is_the_stress_derivative<const D: usize>() {
 }
 
 /// Central-difference gradient of `term` at `x`, one vector per vertex.
-fn finite_difference_gradient<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vector<D>], h: f64) -> Vec<f64> {
+fn finite_difference_gradient<const D: usize>(
+    term: &dyn EnergyTerm<D>,
+    x: &[Vector<D>],
+    h: f64,
+) -> Vec<f64> {
     let mut out = Vec::with_capacity(x.len() * D);
     let mut probe = x.to_vec();
     for v in 0..x.len() {
@@ -112,11 +125,18 @@ fn finite_difference_gradient<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vec
 fn analytic_gradient<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vector<D>]) -> Vec<f64> {
     let mut gradient = vec![Vector::<D>::zeros(); x.len()];
     term.add_gradient(x, 1.0, &mut gradient);
-    gradient.iter().flat_map(|g| g.iter().copied().collect::<Vec<_>>()).collect()
+    gradient
+        .iter()
+        .flat_map(|g| g.iter().copied().collect::<Vec<_>>())
+        .collect()
 }
 
 /// Central-difference Hessian of `term` (differences of its analytic gradient).
-fn finite_difference_hessian<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vector<D>], h: f64) -> DenseMatrix {
+fn finite_difference_hessian<const D: usize>(
+    term: &dyn EnergyTerm<D>,
+    x: &[Vector<D>],
+    h: f64,
+) -> DenseMatrix {
     let n = x.len() * D;
     let mut out = DenseMatrix::zeros(n, n);
     let mut probe = x.to_vec();
@@ -135,8 +155,13 @@ fn finite_difference_hessian<const D: usize>(term: &dyn EnergyTerm<D>, x: &[Vect
     out
 }
 
-fn assembled_hessian<const D: usize>(term: &dyn EnergyTerm<D>, mesh: &Mesh<D>, x: &[Vector<D>]) -> DenseMatrix {
-    let mut hessian = SparseHessian::new(mesh, (0..mesh.vertex_count()).map(Some).collect()).unwrap();
+fn assembled_hessian<const D: usize>(
+    term: &dyn EnergyTerm<D>,
+    mesh: &Mesh<D>,
+    x: &[Vector<D>],
+) -> DenseMatrix {
+    let mut hessian =
+        SparseHessian::new(mesh, (0..mesh.vertex_count()).map(Some).collect()).unwrap();
     term.add_hessian(x, 1.0, &mut hessian);
     hessian.to_dense()
 }
@@ -150,14 +175,25 @@ fn elastic_gradient_matches_finite_differences<const D: usize>() {
         let analytic = analytic_gradient(&elasticity, &x);
         let fd = finite_difference_gradient(&elasticity, &x, 1e-6);
         let err = max_relative_error(&analytic, &fd);
-        assert!(err < TOLERANCE, "{name} {D}D: elastic gradient rel. error {err:e}");
+        assert!(
+            err < TOLERANCE,
+            "{name} {D}D: elastic gradient rel. error {err:e}"
+        );
     }
 }
 
 fn element_hessian_matches_finite_differences<const D: usize>() {
     let mut rng = Rng::new(4);
     // One simplex: the global Hessian is the element Hessian.
-    let rest: Vec<Vector<D>> = (0..=D).map(|a| if a == 0 { Vector::<D>::zeros() } else { Vector::<D>::from_fn(|k, _| if k == a - 1 { 1.0 } else { 0.0 }) }).collect();
+    let rest: Vec<Vector<D>> = (0..=D)
+        .map(|a| {
+            if a == 0 {
+                Vector::<D>::zeros()
+            } else {
+                Vector::<D>::from_fn(|k, _| if k == a - 1 { 1.0 } else { 0.0 })
+            }
+        })
+        .collect();
     let mesh = Arc::new(Mesh::new(rest, vec![(0..=D).collect()]).unwrap());
     for (name, material) in materials() {
         let elasticity = Elasticity::new(mesh.clone(), material);
@@ -166,8 +202,14 @@ fn element_hessian_matches_finite_differences<const D: usize>() {
             let analytic = elasticity.unprojected_element_hessian(0, &x);
             let fd = finite_difference_hessian(&elasticity, &x, 1e-6);
             let err = (&analytic - &fd).amax() / fd.amax();
-            assert!(err < TOLERANCE, "{name} {D}D: element Hessian rel. error {err:e}");
-            assert!((&analytic - analytic.transpose()).amax() <= 1e-12 * analytic.amax(), "{name}: Hessian not symmetric");
+            assert!(
+                err < TOLERANCE,
+                "{name} {D}D: element Hessian rel. error {err:e}"
+            );
+            assert!(
+                (&analytic - analytic.transpose()).amax() <= 1e-12 * analytic.amax(),
+                "{name}: Hessian not symmetric"
+            );
         }
     }
 }
@@ -178,11 +220,14 @@ fn assembled_hessian_is_the_sum_of_projected_element_hessians<const D: usize>() 
     for (name, material) in materials() {
         let elasticity = Elasticity::new(mesh.clone(), material);
         // Strong compression of some elements makes StVK element Hessians indefinite.
-        let x: Vec<Vector<D>> = perturbed(mesh.rest_positions(), 0.12, &mut rng).iter().map(|p| {
-            let mut q = *p;
-            q[1] *= 0.6;
-            q
-        }).collect();
+        let x: Vec<Vector<D>> = perturbed(mesh.rest_positions(), 0.12, &mut rng)
+            .iter()
+            .map(|p| {
+                let mut q = *p;
+                q[1] *= 0.6;
+                q
+            })
+            .collect();
         let n = mesh.vertex_count() * D;
         let mut expected = DenseMatrix::zeros(n, n);
         let mut clamped_any = false;
@@ -191,17 +236,27 @@ fn assembled_hessian_is_the_sum_of_projected_element_hessians<const D: usize>() 
             clamped_any |= project_to_psd(&mut local);
             for p in 0..local.nrows() {
                 for q in 0..local.ncols() {
-                    expected[(simplex[p / D] * D + p % D, simplex[q / D] * D + q % D)] += local[(p, q)];
+                    expected[(simplex[p / D] * D + p % D, simplex[q / D] * D + q % D)] +=
+                        local[(p, q)];
                 }
             }
         }
         let assembled = assembled_hessian(&elasticity, &mesh, &x);
         let err = (&assembled - &expected).amax() / expected.amax();
-        assert!(err < 1e-12, "{name} {D}D: assembly differs from the element sum by {err:e}");
+        assert!(
+            err < 1e-12,
+            "{name} {D}D: assembly differs from the element sum by {err:e}"
+        );
         let min_eigenvalue = assembled.clone().symmetric_eigenvalues().min();
-        assert!(min_eigenvalue > -1e-10 * assembled.amax(), "{name} {D}D: assembled Hessian not PSD ({min_eigenvalue:e})");
+        assert!(
+            min_eigenvalue > -1e-10 * assembled.amax(),
+            "{name} {D}D: assembled Hessian not PSD ({min_eigenvalue:e})"
+        );
         if name == "stvk" {
-            assert!(clamped_any, "the compressed StVK state should exercise the projection");
+            assert!(
+                clamped_any,
+                "the compressed StVK state should exercise the projection"
+            );
         }
     }
 }
@@ -221,11 +276,18 @@ fn inertia_gravity_barrier_match_finite_differences<const D: usize>() {
         .collect();
     let mut inertia = Inertia::new(masses.clone());
     inertia.set_prediction(&perturbed(&x, 0.3, &mut rng));
-    let gravity = Gravity::new(masses.clone(), Vector::<D>::from_fn(|k, _| if k == 1 { -9.81 } else { 0.5 }));
+    let gravity = Gravity::new(
+        masses.clone(),
+        Vector::<D>::from_fn(|k, _| if k == 1 { -9.81 } else { 0.5 }),
+    );
     let barrier = GroundBarrier::new(0.0, a, 50.0);
     let inside = x.iter().filter(|p| p[1] < a).count();
     assert!(inside >= 3, "the test state must exercise the barrier");
-    let terms: [(&str, &dyn EnergyTerm<D>); 3] = [("inertia", &inertia), ("gravity", &gravity), ("barrier", &barrier)];
+    let terms: [(&str, &dyn EnergyTerm<D>); 3] = [
+        ("inertia", &inertia),
+        ("gravity", &gravity),
+        ("barrier", &barrier),
+    ];
     for (name, term) in terms {
         let analytic = analytic_gradient(term, &x);
         let fd = finite_difference_gradient(term, &x, 1e-6);

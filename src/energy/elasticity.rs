@@ -20,7 +20,9 @@
 
 use super::EnergyTerm;
 use crate::material::{HyperelasticMaterial, Material};
-use crate::math::{DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in, project_to_psd};
+use crate::math::{
+    DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in, project_to_psd,
+};
 use crate::mesh::{Mesh, RestElement, edge_matrix};
 use crate::sim::ElementField;
 use crate::solver::SparseHessian;
@@ -54,7 +56,11 @@ macro_rules! with_material {
 
 /// Gradient of the linear shape function of local vertex `a` (constant over the element).
 fn shape_gradient<const D: usize>(dm_inv: &Matrix<D>, a: usize) -> Vector<D> {
-    if a == 0 { -dm_inv.row_sum().transpose() } else { dm_inv.row(a - 1).transpose() }
+    if a == 0 {
+        -dm_inv.row_sum().transpose()
+    } else {
+        dm_inv.row(a - 1).transpose()
+    }
 }
 
 impl<const D: usize> Elasticity<D> {
@@ -78,7 +84,12 @@ impl<const D: usize> Elasticity<D> {
                 next[v] += 1;
             }
         }
-        Self { mesh, material, vertex_slot_offsets: counts, vertex_slots: slots }
+        Self {
+            mesh,
+            material,
+            vertex_slot_offsets: counts,
+            vertex_slots: slots,
+        }
     }
 
     /// The material.
@@ -100,21 +111,34 @@ impl<const D: usize> Elasticity<D> {
     }
 
     /// `D + 1` gradient vectors per element, `dU_e/dx_a = V P g_a`.
-    fn element_gradients<M: HyperelasticMaterial<D>>(&self, material: &M, x: &[Vector<D>]) -> Vec<Vector<D>> {
+    fn element_gradients<M: HyperelasticMaterial<D>>(
+        &self,
+        material: &M,
+        x: &[Vector<D>],
+    ) -> Vec<Vector<D>> {
         let nodes = D + 1;
         let mut out = vec![Vector::<D>::zeros(); self.mesh.element_count() * nodes];
-        out.par_chunks_mut(nodes).with_min_len(ELEMENTS_PER_TASK).enumerate().for_each(|(e, slot)| {
-            let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
-            let p = material.first_piola(&self.mesh.deformation_gradient(e, x));
-            for (a, g) in slot.iter_mut().enumerate() {
-                *g = p * shape_gradient(&dm_inv, a) * volume;
-            }
-        });
+        out.par_chunks_mut(nodes)
+            .with_min_len(ELEMENTS_PER_TASK)
+            .enumerate()
+            .for_each(|(e, slot)| {
+                let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
+                let p = material.first_piola(&self.mesh.deformation_gradient(e, x));
+                for (a, g) in slot.iter_mut().enumerate() {
+                    *g = p * shape_gradient(&dm_inv, a) * volume;
+                }
+            });
         out
     }
 
     /// The element Hessian of element `e`, projected to PSD, scaled.
-    fn element_hessian<M: HyperelasticMaterial<D>>(&self, material: &M, e: usize, x: &[Vector<D>], scale: f64) -> DenseMatrix {
+    fn element_hessian<M: HyperelasticMaterial<D>>(
+        &self,
+        material: &M,
+        e: usize,
+        x: &[Vector<D>],
+        scale: f64,
+    ) -> DenseMatrix {
         let size = D * (D + 1);
         let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
         let dp = material.first_piola_derivative(&self.mesh.deformation_gradient(e, x));
@@ -158,7 +182,10 @@ impl<const D: usize> Elasticity<D> {
 
     /// Minimum volume ratio `J = det F` over all elements.
     pub fn min_volume_ratio(&self, x: &[Vector<D>]) -> f64 {
-        self.deformation_gradients(x).iter().map(determinant).fold(f64::INFINITY, f64::min)
+        self.deformation_gradients(x)
+            .iter()
+            .map(determinant)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// A per-element scalar at positions `x`.
@@ -185,7 +212,9 @@ fn von_mises<const D: usize>(p: &Matrix<D>, f: &Matrix<D>) -> f64 {
         return f64::NAN;
     }
     let sigma = p * f.transpose() / j;
-    (1.5 * (sigma.norm_squared() - sigma.trace().powi(2) / 3.0)).max(0.0).sqrt()
+    (1.5 * (sigma.norm_squared() - sigma.trace().powi(2) / 3.0))
+        .max(0.0)
+        .sqrt()
 }
 
 impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
@@ -205,11 +234,17 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
 
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
         let slots = with_material!(&self.material, m => self.element_gradients(m, x));
-        gradient.par_iter_mut().with_min_len(ELEMENTS_PER_TASK).enumerate().for_each(|(v, g)| {
-            for &slot in &self.vertex_slots[self.vertex_slot_offsets[v]..self.vertex_slot_offsets[v + 1]] {
-                *g += slots[slot] * scale;
-            }
-        });
+        gradient
+            .par_iter_mut()
+            .with_min_len(ELEMENTS_PER_TASK)
+            .enumerate()
+            .for_each(|(v, g)| {
+                for &slot in
+                    &self.vertex_slots[self.vertex_slot_offsets[v]..self.vertex_slot_offsets[v + 1]]
+                {
+                    *g += slots[slot] * scale;
+                }
+            });
     }
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
@@ -227,7 +262,8 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
     /// `det(D_s + t dD_s)` (a polynomial of degree `D` in `t`) reaches zero,
     /// times [`INVERSION_STEP_FRACTION`]; otherwise 1.
     fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
-        let forbids = with_material!(&self.material, m => HyperelasticMaterial::<D>::forbids_inversion(m));
+        let forbids =
+            with_material!(&self.material, m => HyperelasticMaterial::<D>::forbids_inversion(m));
         if !forbids {
             return 1.0;
         }

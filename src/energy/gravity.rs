@@ -14,7 +14,10 @@ pub struct Gravity<const D: usize> {
 impl<const D: usize> Gravity<D> {
     /// Gravity `acceleration` (length/s^2) acting on `masses`.
     pub fn new(masses: Vec<f64>, acceleration: Vector<D>) -> Self {
-        Self { masses, acceleration }
+        Self {
+            masses,
+            acceleration,
+        }
     }
 }
 
@@ -24,7 +27,10 @@ impl<const D: usize> EnergyTerm<D> for Gravity<D> {
     }
 
     fn value(&self, x: &[Vector<D>]) -> f64 {
-        -x.iter().zip(&self.masses).map(|(xi, m)| m * self.acceleration.dot(xi)).sum::<f64>()
+        -x.iter()
+            .zip(&self.masses)
+            .map(|(xi, m)| m * self.acceleration.dot(xi))
+            .sum::<f64>()
     }
 
     fn add_gradient(&self, _x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {

@@ -40,7 +40,11 @@ pub struct GroundBarrier {
 impl GroundBarrier {
     /// A barrier against the plane at `height` acting within `width` (`a`) with `stiffness` (`kappa`).
     pub fn new(height: f64, width: f64, stiffness: f64) -> Self {
-        Self { height, width, stiffness }
+        Self {
+            height,
+            width,
+            stiffness,
+        }
     }
 
     /// The stiffness `kappa` in use.
@@ -110,7 +114,10 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
     }
 
     fn value(&self, x: &[Vector<D>]) -> f64 {
-        self.stiffness * x.iter().map(|xi| barrier(self.gap(xi), self.width)).sum::<f64>()
+        self.stiffness
+            * x.iter()
+                .map(|xi| barrier(self.gap(xi), self.width))
+                .sum::<f64>()
     }
 
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
@@ -127,7 +134,8 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
             let d = self.gap(xi);
             if d < self.width {
                 let mut block = Matrix::<D>::zeros();
-                block[(UP_AXIS, UP_AXIS)] = scale * self.stiffness * barrier_second_derivative(d, self.width);
+                block[(UP_AXIS, UP_AXIS)] =
+                    scale * self.stiffness * barrier_second_derivative(d, self.width);
                 hessian.add_vertex_block(vertex, &block);
             }
         }

@@ -30,11 +30,20 @@ impl<const D: usize> EnergyTerm<D> for Inertia<D> {
     }
 
     fn value(&self, x: &[Vector<D>]) -> f64 {
-        x.iter().zip(&self.predicted).zip(&self.masses).map(|((xi, pi), m)| 0.5 * m * (xi - pi).norm_squared()).sum()
+        x.iter()
+            .zip(&self.predicted)
+            .zip(&self.masses)
+            .map(|((xi, pi), m)| 0.5 * m * (xi - pi).norm_squared())
+            .sum()
     }
 
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
-        for (((g, xi), pi), m) in gradient.iter_mut().zip(x).zip(&self.predicted).zip(&self.masses) {
+        for (((g, xi), pi), m) in gradient
+            .iter_mut()
+            .zip(x)
+            .zip(&self.predicted)
+            .zip(&self.masses)
+        {
             *g += (xi - pi) * (scale * m);
         }
     }

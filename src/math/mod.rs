@@ -45,7 +45,9 @@ pub fn determinant<const D: usize>(m: &Matrix<D>) -> f64 {
     let mut a = *m;
     let mut det = 1.0;
     for col in 0..D {
-        let pivot = (col..D).max_by(|&i, &j| a[(i, col)].abs().total_cmp(&a[(j, col)].abs())).unwrap_or(col);
+        let pivot = (col..D)
+            .max_by(|&i, &j| a[(i, col)].abs().total_cmp(&a[(j, col)].abs()))
+            .unwrap_or(col);
         if a[(pivot, col)] == 0.0 {
             return 0.0;
         }

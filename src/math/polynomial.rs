@@ -19,25 +19,46 @@ impl Polynomial {
     /// `t_k = 0, 1, .., degree` (exact for polynomials of that degree, up to round-off).
     pub fn interpolate(degree: usize, f: impl Fn(f64) -> f64) -> Self {
         let n = degree + 1;
-        let vandermonde = nalgebra::DMatrix::from_fn(n, n, |row, col| (row as f64).powi(col as i32));
+        let vandermonde =
+            nalgebra::DMatrix::from_fn(n, n, |row, col| (row as f64).powi(col as i32));
         let values = nalgebra::DVector::from_fn(n, |row, _| f(row as f64));
-        let coefficients = vandermonde.lu().solve(&values).expect("Vandermonde matrix on distinct nodes is invertible");
-        Self { coefficients: coefficients.iter().copied().collect() }
+        let coefficients = vandermonde
+            .lu()
+            .solve(&values)
+            .expect("Vandermonde matrix on distinct nodes is invertible");
+        Self {
+            coefficients: coefficients.iter().copied().collect(),
+        }
     }
 
     /// Value at `t` (Horner).
     pub fn eval(&self, t: f64) -> f64 {
-        self.coefficients.iter().rev().fold(0.0, |acc, c| acc * t + c)
+        self.coefficients
+            .iter()
+            .rev()
+            .fold(0.0, |acc, c| acc * t + c)
     }
 
     /// The derivative.
     pub fn derivative(&self) -> Self {
-        Self { coefficients: self.coefficients.iter().enumerate().skip(1).map(|(k, c)| k as f64 * c).collect() }
+        Self {
+            coefficients: self
+                .coefficients
+                .iter()
+                .enumerate()
+                .skip(1)
+                .map(|(k, c)| k as f64 * c)
+                .collect(),
+        }
     }
 
     /// All roots in `[lo, hi]` where the sign changes, ascending.
     pub fn sign_changes_in(&self, lo: f64, hi: f64) -> Vec<f64> {
-        let degree = self.coefficients.iter().rposition(|c| *c != 0.0).unwrap_or(0);
+        let degree = self
+            .coefficients
+            .iter()
+            .rposition(|c| *c != 0.0)
+            .unwrap_or(0);
         if degree == 0 {
             return Vec::new();
         }
@@ -76,7 +97,10 @@ impl Polynomial {
 
 /// The first `t` in `(0, hi]` where `p` reaches zero or changes sign, if any.
 pub fn first_root_in(p: &Polynomial, hi: f64) -> Option<f64> {
-    p.sign_changes_in(0.0, hi).into_iter().find(|&t| t > 0.0).or_else(|| (p.eval(hi) == 0.0).then_some(hi))
+    p.sign_changes_in(0.0, hi)
+        .into_iter()
+        .find(|&t| t > 0.0)
+        .or_else(|| (p.eval(hi) == 0.0).then_some(hi))
 }
 
 #[cfg(test)]
@@ -97,9 +121,13 @@ mod tests {
 
     #[test]
     fn no_root_when_positive() {
-        let p = Polynomial { coefficients: vec![1.0, -1.0, 1.0] };
+        let p = Polynomial {
+            coefficients: vec![1.0, -1.0, 1.0],
+        };
         assert_eq!(first_root_in(&p, 1.0), None);
-        let q = Polynomial { coefficients: vec![1.0, -4.0, 4.0] }; // (1 - 2t)^2, touches at 0.5
+        let q = Polynomial {
+            coefficients: vec![1.0, -4.0, 4.0],
+        }; // (1 - 2t)^2, touches at 0.5
         assert!(q.eval(0.5).abs() < 1e-15);
     }
 }

@@ -36,6 +36,10 @@ pub struct Effects<const D: usize> {
 
 impl<const D: usize> Default for Effects<D> {
     fn default() -> Self {
-        Self { gravity: None, ground: None, pinned: None }
+        Self {
+            gravity: None,
+            ground: None,
+            pinned: None,
+        }
     }
 }

@@ -5,7 +5,9 @@ use crate::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use crate::material::Material;
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::Mesh;
-use crate::solver::{Objective, SolverMethod, SolverSettings, SparseHessian, gradient_descent, newton};
+use crate::solver::{
+    Objective, SolverMethod, SolverSettings, SparseHessian, gradient_descent, newton,
+};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -20,7 +22,10 @@ pub struct SimulationSettings {
 
 impl Default for SimulationSettings {
     fn default() -> Self {
-        Self { dt: 1.0 / 300.0, solver: SolverSettings::default() }
+        Self {
+            dt: 1.0 / 300.0,
+            solver: SolverSettings::default(),
+        }
     }
 }
 
@@ -75,7 +80,10 @@ pub struct Simulation<const D: usize> {
 }
 
 fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
-    SimError::InvalidSetting { key, reason: reason.into() }
+    SimError::InvalidSetting {
+        key,
+        reason: reason.into(),
+    }
 }
 
 impl<const D: usize> Simulation<D> {
@@ -90,13 +98,22 @@ impl<const D: usize> Simulation<D> {
         initial_velocity: Vector<D>,
     ) -> Result<Self, SimError> {
         if !(density > 0.0 && density.is_finite()) {
-            return Err(invalid("density", format!("must be positive and finite, got {density}")));
+            return Err(invalid(
+                "density",
+                format!("must be positive and finite, got {density}"),
+            ));
         }
         if !(settings.dt > 0.0 && settings.dt.is_finite()) {
-            return Err(invalid("dt", format!("must be positive and finite, got {}", settings.dt)));
+            return Err(invalid(
+                "dt",
+                format!("must be positive and finite, got {}", settings.dt),
+            ));
         }
         if !(settings.solver.tolerance > 0.0) {
-            return Err(invalid("tolerance", format!("must be positive, got {}", settings.solver.tolerance)));
+            return Err(invalid(
+                "tolerance",
+                format!("must be positive, got {}", settings.solver.tolerance),
+            ));
         }
         if settings.solver.max_iterations == 0 {
             return Err(invalid("max_iterations", "must be at least 1"));
@@ -104,12 +121,19 @@ impl<const D: usize> Simulation<D> {
         if let SolverMethod::GradientDescent { step } = settings.solver.method
             && !(step > 0.0 && step.is_finite())
         {
-            return Err(invalid("step", format!("must be positive and finite, got {step}")));
+            return Err(invalid(
+                "step",
+                format!("must be positive and finite, got {step}"),
+            ));
         }
         let mesh = Arc::new(mesh);
         let masses = mesh.lumped_masses(density);
         let positions = mesh.rest_positions().to_vec();
-        let pinned = |x: &Vector<D>| effects.pinned.is_some_and(|r| (0..D).all(|k| x[k] >= r.min[k] && x[k] <= r.max[k]));
+        let pinned = |x: &Vector<D>| {
+            effects
+                .pinned
+                .is_some_and(|r| (0..D).all(|k| x[k] >= r.min[k] && x[k] <= r.max[k]))
+        };
         let mut free_count = 0;
         let free_index: Vec<Option<usize>> = positions
             .iter()
@@ -124,21 +148,51 @@ impl<const D: usize> Simulation<D> {
             return Err(invalid("pinned", "the pinned region holds no vertex"));
         }
         if free_count == 0 {
-            return Err(invalid("pinned", "every vertex is pinned: nothing can move"));
+            return Err(invalid(
+                "pinned",
+                "every vertex is pinned: nothing can move",
+            ));
         }
-        let velocities: Vec<Vector<D>> =
-            free_index.iter().map(|f| if f.is_some() { initial_velocity } else { Vector::<D>::zeros() }).collect();
+        let velocities: Vec<Vector<D>> = free_index
+            .iter()
+            .map(|f| {
+                if f.is_some() {
+                    initial_velocity
+                } else {
+                    Vector::<D>::zeros()
+                }
+            })
+            .collect();
         let mut barrier = None;
         if let Some(ground) = effects.ground {
             if !(ground.activation_distance > 0.0 && ground.activation_distance.is_finite()) {
-                return Err(invalid("a", format!("the barrier width must be positive, got {}", ground.activation_distance)));
+                return Err(invalid(
+                    "a",
+                    format!(
+                        "the barrier width must be positive, got {}",
+                        ground.activation_distance
+                    ),
+                ));
             }
-            if let Some((vertex, x)) = positions.iter().enumerate().find(|(_, x)| !(x[UP_AXIS] > ground.height)) {
-                return Err(SimError::BelowGround { vertex, height: x[UP_AXIS], ground: ground.height });
+            if let Some((vertex, x)) = positions
+                .iter()
+                .enumerate()
+                .find(|(_, x)| !(x[UP_AXIS] > ground.height))
+            {
+                return Err(SimError::BelowGround {
+                    vertex,
+                    height: x[UP_AXIS],
+                    ground: ground.height,
+                });
             }
             let stiffness = match ground.stiffness {
                 Some(kappa) if kappa > 0.0 && kappa.is_finite() => kappa,
-                Some(kappa) => return Err(invalid("kappa", format!("must be positive and finite, got {kappa}"))),
+                Some(kappa) => {
+                    return Err(invalid(
+                        "kappa",
+                        format!("must be positive and finite, got {kappa}"),
+                    ));
+                }
                 None => GroundBarrier::default_stiffness(
                     ground.height,
                     ground.activation_distance,
@@ -148,10 +202,18 @@ impl<const D: usize> Simulation<D> {
                     effects.gravity,
                 ),
             };
-            barrier = Some(GroundBarrier::new(ground.height, ground.activation_distance, stiffness));
+            barrier = Some(GroundBarrier::new(
+                ground.height,
+                ground.activation_distance,
+                stiffness,
+            ));
         }
-        let hessian = SparseHessian::new(&mesh, free_index)
-            .map_err(|e| SimError::SolverFailure { step: 0, time: 0.0, reason: e.to_string() })?;
+        let hessian =
+            SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SolverFailure {
+                step: 0,
+                time: 0.0,
+                reason: e.to_string(),
+            })?;
         Ok(Self {
             inertia: Inertia::new(masses.clone()),
             elasticity: Elasticity::new(mesh.clone(), material),
@@ -230,21 +292,34 @@ impl<const D: usize> Simulation<D> {
     pub fn step(&mut self) -> Result<StepStats, SimError> {
         let dt = self.settings.dt;
         let previous = self.positions.clone();
-        let predicted: Vec<Vector<D>> = previous.iter().zip(&self.velocities).map(|(x, v)| x + v * dt).collect();
+        let predicted: Vec<Vector<D>> = previous
+            .iter()
+            .zip(&self.velocities)
+            .map(|(x, v)| x + v * dt)
+            .collect();
         self.inertia.set_prediction(&predicted);
         let mut terms: Vec<(&dyn EnergyTerm<D>, f64)> = vec![(&self.inertia, 1.0)];
         terms.extend(
-            [Some(&self.elasticity as &dyn EnergyTerm<D>), self.gravity.as_ref().map(|g| g as _), self.barrier.as_ref().map(|b| b as _)]
-                .into_iter()
-                .flatten()
-                .map(|term| (term, dt * dt)),
+            [
+                Some(&self.elasticity as &dyn EnergyTerm<D>),
+                self.gravity.as_ref().map(|g| g as _),
+                self.barrier.as_ref().map(|b| b as _),
+            ]
+            .into_iter()
+            .flatten()
+            .map(|term| (term, dt * dt)),
         );
         let objective = Objective::new(terms);
         let solver = self.settings.solver;
         let result = match solver.method {
-            SolverMethod::Newton => {
-                newton(&objective, &mut self.hessian, &mut self.positions, dt, solver.tolerance, solver.max_iterations)
-            }
+            SolverMethod::Newton => newton(
+                &objective,
+                &mut self.hessian,
+                &mut self.positions,
+                dt,
+                solver.tolerance,
+                solver.max_iterations,
+            ),
             SolverMethod::GradientDescent { step } => gradient_descent(
                 &objective,
                 self.hessian.free_index(),
@@ -255,7 +330,11 @@ impl<const D: usize> Simulation<D> {
                 solver.max_iterations,
             ),
         };
-        let failure = |reason: String| SimError::SolverFailure { step: self.steps, time: self.time, reason };
+        let failure = |reason: String| SimError::SolverFailure {
+            step: self.steps,
+            time: self.time,
+            reason,
+        };
         let stats = match result {
             Ok(stats) => stats,
             Err(e) => {
@@ -263,11 +342,20 @@ impl<const D: usize> Simulation<D> {
                 return Err(failure(e.to_string()));
             }
         };
-        if let Some(vertex) = self.positions.iter().position(|x| !x.iter().all(|v| v.is_finite())) {
+        if let Some(vertex) = self
+            .positions
+            .iter()
+            .position(|x| !x.iter().all(|v| v.is_finite()))
+        {
             self.positions = previous;
             return Err(failure(format!("vertex {vertex} left the finite numbers")));
         }
-        for ((v, x), x0) in self.velocities.iter_mut().zip(&self.positions).zip(&previous) {
+        for ((v, x), x0) in self
+            .velocities
+            .iter_mut()
+            .zip(&self.positions)
+            .zip(&previous)
+        {
             *v = (x - x0) / dt;
         }
         self.time += dt;
@@ -301,7 +389,13 @@ impl<const D: usize> Simulation<D> {
     /// Statistics of the current state with zero solver counts (e.g. frame 0).
     pub fn frame_stats(&self) -> FrameStats<D> {
         let total_mass: f64 = self.masses.iter().sum();
-        let centre_of_mass = self.positions.iter().zip(&self.masses).map(|(x, m)| x * *m).sum::<Vector<D>>() / total_mass;
+        let centre_of_mass = self
+            .positions
+            .iter()
+            .zip(&self.masses)
+            .map(|(x, m)| x * *m)
+            .sum::<Vector<D>>()
+            / total_mass;
         FrameStats {
             time: self.time,
             iterations: 0,
@@ -310,7 +404,12 @@ impl<const D: usize> Simulation<D> {
             unconverged_steps: 0,
             energy: self.energies(),
             centre_of_mass,
-            min_height: self.ground_height.map(|h| self.positions.iter().map(|x| x[UP_AXIS] - h).fold(f64::INFINITY, f64::min)),
+            min_height: self.ground_height.map(|h| {
+                self.positions
+                    .iter()
+                    .map(|x| x[UP_AXIS] - h)
+                    .fold(f64::INFINITY, f64::min)
+            }),
             min_volume_ratio: self.elasticity.min_volume_ratio(&self.positions),
             times: Default::default(),
             wall_time: Default::default(),
@@ -321,10 +420,18 @@ impl<const D: usize> Simulation<D> {
     pub fn energies(&self) -> EnergyBreakdown {
         let x = &self.positions;
         EnergyBreakdown {
-            kinetic: self.velocities.iter().zip(&self.masses).map(|(v, m)| 0.5 * m * v.norm_squared()).sum(),
+            kinetic: self
+                .velocities
+                .iter()
+                .zip(&self.masses)
+                .map(|(v, m)| 0.5 * m * v.norm_squared())
+                .sum(),
             elastic: self.elasticity.value(x),
             gravity: self.gravity.as_ref().map_or(0.0, |g| g.value(x)),
-            barrier: self.barrier.as_ref().map_or(0.0, |b| EnergyTerm::<D>::value(b, x)),
+            barrier: self
+                .barrier
+                .as_ref()
+                .map_or(0.0, |b| EnergyTerm::<D>::value(b, x)),
         }
     }
 

@@ -29,7 +29,11 @@ pub fn gradient_descent<const D: usize>(
         let start = Instant::now();
         objective.gradient(x, &mut gradient);
         for (g, f) in gradient.iter_mut().zip(free) {
-            *g = if f.is_some() { *g * -scale } else { Vector::<D>::zeros() };
+            *g = if f.is_some() {
+                *g * -scale
+            } else {
+                Vector::<D>::zeros()
+            };
         }
         stats.times.assembly += start.elapsed();
         if gradient.iter().any(|g| !g.iter().all(|v| v.is_finite())) {

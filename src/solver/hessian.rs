@@ -16,7 +16,9 @@ use crate::math::{Matrix, Vector};
 use crate::mesh::Mesh;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky};
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 use rayon::prelude::*;
@@ -108,10 +110,14 @@ impl<const D: usize> SparseHessian<D> {
         let mut contributions: Vec<(usize, usize)> = Vec::new();
         for (e, simplex) in mesh.simplices().enumerate() {
             for q in 0..size {
-                let Some(fb) = free_index[simplex[q / D]] else { continue };
+                let Some(fb) = free_index[simplex[q / D]] else {
+                    continue;
+                };
                 let col = fb * D + q % D;
                 for p in 0..size {
-                    let Some(fa) = free_index[simplex[p / D]] else { continue };
+                    let Some(fa) = free_index[simplex[p / D]] else {
+                        continue;
+                    };
                     let row = fa * D + p % D;
                     if row >= col {
                         contributions.push((entry(row, col), e * size * size + q * size + p));
@@ -128,14 +134,24 @@ impl<const D: usize> SparseHessian<D> {
         for t in 0..row_idx.len() {
             gather_offsets[t + 1] += gather_offsets[t];
         }
-        let gather_sources = contributions.into_iter().map(|(_, source)| source).collect();
+        let gather_sources = contributions
+            .into_iter()
+            .map(|(_, source)| source)
+            .collect();
 
         let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, &col_ptr, None, &row_idx);
-        let symbolic = factorize_symbolic_cholesky(pattern, Side::Lower, SymmetricOrdering::Amd, CholeskySymbolicParams::default())
-            .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| FactorisationError(format!("{e:?}")))?;
         let factor_values = vec![0.0; symbolic.len_val()];
         let workspace = MemBuffer::new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()).or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+            symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+                .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
         );
         let values = vec![0.0; row_idx.len()];
         Ok(Self {
@@ -176,7 +192,9 @@ impl<const D: usize> SparseHessian<D> {
 
     /// Adds `block` to the diagonal block of `vertex` (ignored for a pinned vertex).
     pub fn add_vertex_block(&mut self, vertex: usize, block: &Matrix<D>) {
-        let Some(fv) = self.free_index[vertex] else { return };
+        let Some(fv) = self.free_index[vertex] else {
+            return;
+        };
         for j in 0..D {
             for i in j..D {
                 self.values[self.diagonal_block_entries[fv * D * D + j * D + i]] += block[(i, j)];
@@ -192,12 +210,20 @@ impl<const D: usize> SparseHessian<D> {
 
     /// Adds the element slots into the stored values (deterministic, parallel).
     pub fn gather_element_buffer(&mut self) {
-        let (offsets, sources, buffer) = (&self.gather_offsets, &self.gather_sources, &self.element_buffer);
-        self.values.par_iter_mut().with_min_len(ENTRIES_PER_TASK).enumerate().for_each(|(t, value)| {
-            for &source in &sources[offsets[t]..offsets[t + 1]] {
-                *value += buffer[source];
-            }
-        });
+        let (offsets, sources, buffer) = (
+            &self.gather_offsets,
+            &self.gather_sources,
+            &self.element_buffer,
+        );
+        self.values
+            .par_iter_mut()
+            .with_min_len(ENTRIES_PER_TASK)
+            .enumerate()
+            .for_each(|(t, value)| {
+                for &source in &sources[offsets[t]..offsets[t + 1]] {
+                    *value += buffer[source];
+                }
+            });
     }
 
     /// The full symmetric matrix as dense (for tests and small problems).
@@ -237,7 +263,13 @@ impl<const D: usize> SparseHessian<D> {
     /// the thread count.
     pub fn factor_and_solve(&mut self, rhs: &mut [f64]) -> Result<(), FactorisationError> {
         let matrix = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(self.dofs, self.dofs, &self.col_ptr, None, &self.row_idx),
+            SymbolicSparseColMatRef::new_checked(
+                self.dofs,
+                self.dofs,
+                &self.col_ptr,
+                None,
+                &self.row_idx,
+            ),
             &self.values,
         );
         let stack = MemStack::new(&mut self.workspace);
@@ -255,7 +287,12 @@ impl<const D: usize> SparseHessian<D> {
             .map_err(|e| FactorisationError(format!("{e:?}")))?;
         let stack = MemStack::new(&mut self.workspace);
         let n = rhs.len();
-        llt.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(rhs, n, 1), Par::Seq, stack);
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            Par::Seq,
+            stack,
+        );
         Ok(())
     }
 }

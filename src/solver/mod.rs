@@ -27,7 +27,11 @@ pub struct SolverSettings {
 
 impl Default for SolverSettings {
     fn default() -> Self {
-        Self { method: SolverMethod::Newton, tolerance: 1e-4, max_iterations: 50 }
+        Self {
+            method: SolverMethod::Newton,
+            tolerance: 1e-4,
+            max_iterations: 50,
+        }
     }
 }
 

@@ -39,7 +39,9 @@ pub fn newton<const D: usize>(
     let mut trial = x.to_vec();
     let mut energy = objective.value(x);
     if !energy.is_finite() {
-        return Err(SolveError::NonFinite("the starting state has infinite or undefined energy"));
+        return Err(SolveError::NonFinite(
+            "the starting state has infinite or undefined energy",
+        ));
     }
     while stats.iterations < max_iterations {
         stats.iterations += 1;
@@ -54,7 +56,9 @@ pub fn newton<const D: usize>(
         if flat.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite("the gradient is not finite"));
         }
-        hessian.factor_and_solve(&mut flat).map_err(SolveError::Factorisation)?;
+        hessian
+            .factor_and_solve(&mut flat)
+            .map_err(SolveError::Factorisation)?;
         hessian.scatter_free(&flat, &mut direction);
         stats.linear_solves += 1;
         stats.times.factorisation += start.elapsed();

@@ -18,7 +18,10 @@ impl<'a, const D: usize> Objective<'a, D> {
 
     /// `E(x)`.
     pub fn value(&self, x: &[Vector<D>]) -> f64 {
-        self.terms.iter().map(|(term, weight)| weight * term.value(x)).sum()
+        self.terms
+            .iter()
+            .map(|(term, weight)| weight * term.value(x))
+            .sum()
     }
 
     /// `grad E(x)`, one vector per vertex.
@@ -39,6 +42,9 @@ impl<'a, const D: usize> Objective<'a, D> {
 
     /// The largest feasible fraction of the step `dx` (contact, inversion).
     pub fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
-        self.terms.iter().map(|(term, _)| term.max_step(x, dx)).fold(1.0, f64::min)
+        self.terms
+            .iter()
+            .map(|(term, _)| term.max_step(x, dx))
+            .fold(1.0, f64::min)
     }
 }

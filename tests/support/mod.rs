@@ -22,7 +22,11 @@ impl Rng {
 }
 
 pub fn lame() -> LameParameters {
-    YoungPoisson { young: 100.0, poisson: 0.3 }.into()
+    YoungPoisson {
+        young: 100.0,
+        poisson: 0.3,
+    }
+    .into()
 }
 
 pub fn stvk() -> Material {
@@ -40,7 +44,9 @@ pub fn unit_box<const D: usize>() -> Mesh<D> {
 
 /// Rest positions perturbed by up to `amplitude` per component (keeps elements uninverted for small amplitudes).
 pub fn perturbed<const D: usize>(x: &[Vector<D>], amplitude: f64, rng: &mut Rng) -> Vec<Vector<D>> {
-    x.iter().map(|p| p + Vector::<D>::from_fn(|_, _| amplitude * rng.next())).collect()
+    x.iter()
+        .map(|p| p + Vector::<D>::from_fn(|_, _| amplitude * rng.next()))
+        .collect()
 }
 
 /// A random deformation gradient near identity with positive determinant.
@@ -55,6 +61,13 @@ pub fn relative_error(a: f64, b: f64, floor: f64) -> f64 {
 
 /// Max-norm relative error of two equal-length slices, relative to the max entry of `reference`.
 pub fn max_relative_error(actual: &[f64], reference: &[f64]) -> f64 {
-    let scale = reference.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
-    actual.iter().zip(reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs())) / scale
+    let scale = reference
+        .iter()
+        .fold(0.0f64, |m, v| m.max(v.abs()))
+        .max(1e-300);
+    actual
+        .iter()
+        .zip(reference)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        / scale
 }
