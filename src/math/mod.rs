@@ -31,11 +31,6 @@ pub const fn simplex_vertices(d: usize) -> usize {
 /// The vertical axis: y in 2D and in 3D (3D scenes are y-up, as in the report).
 pub const UP_AXIS: usize = 1;
 
-/// Returns the `D x D` zero stress derivative.
-pub fn zero_stress_derivative<const D: usize>() -> StressDerivative<D> {
-    [[Matrix::<D>::zeros(); D]; D]
-}
-
 /// Determinant of a small square matrix by Gaussian elimination with partial
 /// pivoting.
 ///
