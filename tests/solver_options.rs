@@ -3,7 +3,6 @@
 
 mod support;
 
-use elasto::energy::EnergyTerm;
 use elasto::math::Vector2;
 use elasto::mesh::Mesh;
 use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
