@@ -61,13 +61,36 @@ pub fn determinant<const D: usize>(m: &Matrix<D>) -> f64 {
     det
 }
 
-/// Inverse of a small square matrix (`None` when singular).
+/// Inverse of a small square matrix by Gauss-Jordan elimination with partial
+/// pivoting (`None` when singular), allocation-free for the hot loops.
 pub fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
-    // nalgebra's inversion is bound-free for dynamic matrices; the copy is tiny.
-    let dynamic = DMatrix::from_fn(D, D, |i, j| m[(i, j)]);
-    let inv = dynamic.try_inverse()?;
-    let out = Matrix::<D>::from_fn(|i, j| inv[(i, j)]);
-    out.iter().all(|v| v.is_finite()).then_some(out)
+    let mut a = *m;
+    let mut inv = Matrix::<D>::identity();
+    for col in 0..D {
+        let pivot = (col..D)
+            .max_by(|&i, &j| a[(i, col)].abs().total_cmp(&a[(j, col)].abs()))
+            .unwrap_or(col);
+        if a[(pivot, col)] == 0.0 || !a[(pivot, col)].is_finite() {
+            return None;
+        }
+        a.swap_rows(pivot, col);
+        inv.swap_rows(pivot, col);
+        let scale = 1.0 / a[(col, col)];
+        for c in 0..D {
+            a[(col, c)] *= scale;
+            inv[(col, c)] *= scale;
+        }
+        for row in 0..D {
+            if row != col {
+                let factor = a[(row, col)];
+                for c in 0..D {
+                    a[(row, c)] -= factor * a[(col, c)];
+                    inv[(row, c)] -= factor * inv[(col, c)];
+                }
+            }
+        }
+    }
+    inv.iter().all(|v| v.is_finite()).then_some(inv)
 }
 
 mod polynomial;
@@ -75,3 +98,19 @@ mod psd;
 
 pub use polynomial::{Polynomial, first_root_in};
 pub use psd::project_to_psd;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn determinant_and_inverse_of_a_pivoting_matrix() {
+        // A zero leading entry forces a row swap.
+        let m = Matrix::<3>::new(0.0, 2.0, 1.0, 1.0, 0.0, 3.0, 4.0, -1.0, 0.5);
+        let expected_det = 0.0 * (0.0 * 0.5 + 3.0) - 2.0 * (1.0 * 0.5 - 12.0) + 1.0 * (-1.0 - 0.0);
+        assert!((determinant(&m) - expected_det).abs() < 1e-12);
+        let inv = inverse(&m).unwrap();
+        assert!((inv * m - Matrix::<3>::identity()).amax() < 1e-12);
+        assert_eq!(inverse(&Matrix::<2>::new(1.0, 2.0, 2.0, 4.0)), None);
+    }
+}
