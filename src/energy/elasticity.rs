@@ -158,7 +158,9 @@ impl<const D: usize> Elasticity<D> {
                 }
             }
         }
-        project_to_psd(&mut h);
+        if !is_positive_definite(&dp) {
+            project_to_psd(&mut h);
+        }
         h
     }
 
@@ -201,6 +203,15 @@ impl<const D: usize> Elasticity<D> {
             })
             .collect())
     }
+}
+
+/// Whether `dP/dF`, as a `D^2 x D^2` matrix, is positive definite (one
+/// Cholesky attempt). Then `H_e = V G^T (dP/dF) G` is PSD already and its
+/// projection would return it unchanged, so the eigen-decomposition is
+/// skipped: the common case near rest, and a large saving in 3D.
+fn is_positive_definite<const D: usize>(dp: &crate::math::StressDerivative<D>) -> bool {
+    let flat = DenseMatrix::from_fn(D * D, D * D, |row, col| dp[col / D][col % D][(row / D, row % D)]);
+    flat.cholesky().is_some()
 }
 
 /// Von Mises equivalent stress of the Cauchy stress `sigma = P F^T / J`:
