@@ -62,7 +62,7 @@ fn bench<const D: usize>(cells: [usize; D]) {
     let setup = setup.elapsed();
     let mut phases: Vec<PhaseTimes> = Vec::new();
     for _ in 0..SAMPLES {
-        let stats = sim.step().unwrap();
+        let stats = sim.step().unwrap().solver;
         phases.push(stats.times);
     }
     let assembly = median(phases.iter().map(|t| t.assembly).collect());

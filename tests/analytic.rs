@@ -203,7 +203,7 @@ fn hanging_bar_tip<const D: usize>(cells_along: usize, cells_across: usize) -> (
         Vector::<D>::zeros(),
     )
     .unwrap();
-    let stats = sim.step().unwrap();
+    let stats = sim.step().unwrap().solver;
     assert!(
         stats.converged,
         "{D}D static solve did not converge: {stats:?}"

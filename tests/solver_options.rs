@@ -42,14 +42,14 @@ fn gradient_descent_reaches_the_newton_solution_at_far_greater_cost() {
         },
         false,
     );
-    let newton_stats = newton.step().unwrap();
+    let newton_stats = newton.step().unwrap().solver;
     let descent_settings = SolverSettings {
         method: SolverMethod::GradientDescent { step: 1e-5 },
         tolerance,
         max_iterations: 1_000_000,
     };
     let mut descent = falling_box(descent_settings, false);
-    let descent_stats = descent.step().unwrap();
+    let descent_stats = descent.step().unwrap().solver;
     assert!(newton_stats.converged && descent_stats.converged);
     let difference = newton
         .positions()
@@ -80,7 +80,7 @@ fn the_iteration_cap_is_reported_not_fatal() {
         },
         true,
     );
-    let stats = sim.step().unwrap();
+    let stats = sim.step().unwrap().solver;
     assert_eq!(stats.iterations, 1);
     assert!(!stats.converged);
     let frame = sim.advance_frame(3).unwrap();

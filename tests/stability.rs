@@ -76,16 +76,15 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
         let stats = sim
             .step()
             .unwrap_or_else(|e| panic!("step {step} failed: {e}"));
-        unconverged += usize::from(!stats.converged);
-        let frame = sim.frame_stats();
+        unconverged += usize::from(!stats.solver.converged);
         assert!(
             sim.positions()
                 .iter()
                 .all(|x| x.iter().all(|v| v.is_finite())),
             "step {step}: non-finite position"
         );
-        min_gap = min_gap.min(frame.min_height.unwrap());
-        min_j = min_j.min(frame.min_volume_ratio);
+        min_gap = min_gap.min(stats.min_height.unwrap());
+        min_j = min_j.min(stats.min_volume_ratio);
     }
     (
         min_gap,

@@ -210,7 +210,9 @@ impl<const D: usize> Elasticity<D> {
 /// projection would return it unchanged, so the eigen-decomposition is
 /// skipped: the common case near rest, and a large saving in 3D.
 fn is_positive_definite<const D: usize>(dp: &crate::math::StressDerivative<D>) -> bool {
-    let flat = DenseMatrix::from_fn(D * D, D * D, |row, col| dp[col / D][col % D][(row / D, row % D)]);
+    let flat = DenseMatrix::from_fn(D * D, D * D, |row, col| {
+        dp[col / D][col % D][(row / D, row % D)]
+    });
     flat.cholesky().is_some()
 }
 

@@ -18,4 +18,4 @@ mod stats;
 
 pub use effects::{Effects, Ground, PinRegion};
 pub use simulation::{SimError, Simulation, SimulationSettings};
-pub use stats::{ElementField, EnergyBreakdown, FrameStats, PhaseTimes, StepStats};
+pub use stats::{ElementField, EnergyBreakdown, FrameStats, PhaseTimes, SolverStats, StepStats};

@@ -1,6 +1,6 @@
 //! The simulation state and its stepper.
 
-use super::{Effects, ElementField, EnergyBreakdown, FrameStats, StepStats};
+use super::{Effects, ElementField, EnergyBreakdown, FrameStats, SolverStats, StepStats};
 use crate::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use crate::material::Material;
 use crate::math::{UP_AXIS, Vector};
@@ -288,8 +288,22 @@ impl<const D: usize> Simulation<D> {
         terms
     }
 
-    /// Advances one step of length `dt`.
-    pub fn step(&mut self) -> Result<StepStats, SimError> {
+    /// Advances one step of length `dt` and reports the solver's work and the state reached.
+    pub fn step(&mut self) -> Result<StepStats<D>, SimError> {
+        let solver = self.solve_step()?;
+        let state = self.frame_stats();
+        Ok(StepStats {
+            solver,
+            time: state.time,
+            energy: state.energy,
+            centre_of_mass: state.centre_of_mass,
+            min_height: state.min_height,
+            min_volume_ratio: state.min_volume_ratio,
+        })
+    }
+
+    /// Advances one step; only the solver's statistics (no state measures).
+    fn solve_step(&mut self) -> Result<SolverStats, SimError> {
         let dt = self.settings.dt;
         let previous = self.positions.clone();
         let predicted: Vec<Vector<D>> = previous
@@ -366,10 +380,10 @@ impl<const D: usize> Simulation<D> {
     /// Advances `substeps` steps and summarises them as one output frame.
     pub fn advance_frame(&mut self, substeps: usize) -> Result<FrameStats<D>, SimError> {
         let start = Instant::now();
-        let mut totals = StepStats::default();
+        let mut totals = SolverStats::default();
         let mut unconverged_steps = 0;
         for _ in 0..substeps {
-            let step = self.step()?;
+            let step = self.solve_step()?;
             totals.iterations += step.iterations;
             totals.linear_solves += step.linear_solves;
             totals.backtracks += step.backtracks;

@@ -42,9 +42,9 @@ impl EnergyBreakdown {
     }
 }
 
-/// What one time step did.
+/// What the nonlinear solver did in one time step.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct StepStats {
+pub struct SolverStats {
     /// Newton (or gradient-descent) iterations.
     pub iterations: usize,
     /// Sparse linear solves.
@@ -57,6 +57,23 @@ pub struct StepStats {
     pub residual: f64,
     /// Wall time per phase.
     pub times: PhaseTimes,
+}
+
+/// What one time step did, and the state it reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepStats<const D: usize> {
+    /// The solver's counts and timings.
+    pub solver: SolverStats,
+    /// Simulated time at the end of the step, in seconds.
+    pub time: f64,
+    /// Energies at the end of the step.
+    pub energy: EnergyBreakdown,
+    /// Centre of mass.
+    pub centre_of_mass: Vector<D>,
+    /// Minimum vertex height above the ground (`None` without a ground).
+    pub min_height: Option<f64>,
+    /// Minimum volume ratio `J = det F` over all elements.
+    pub min_volume_ratio: f64,
 }
 
 /// Statistics of one output frame (several substeps), measured at its end.

@@ -8,7 +8,7 @@
 
 use super::{Objective, SolveError};
 use crate::math::Vector;
-use crate::sim::StepStats;
+use crate::sim::SolverStats;
 use std::time::Instant;
 
 /// Minimises `objective` from `x` in place by fixed-step gradient descent.
@@ -20,8 +20,8 @@ pub fn gradient_descent<const D: usize>(
     step: f64,
     tolerance: f64,
     max_iterations: usize,
-) -> Result<StepStats, SolveError> {
-    let mut stats = StepStats::default();
+) -> Result<SolverStats, SolveError> {
+    let mut stats = SolverStats::default();
     let mut gradient = vec![Vector::<D>::zeros(); x.len()];
     let scale = step / (dt * dt);
     while stats.iterations < max_iterations {

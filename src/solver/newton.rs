@@ -12,7 +12,7 @@
 
 use super::{Objective, SolveError, SparseHessian};
 use crate::math::Vector;
-use crate::sim::StepStats;
+use crate::sim::SolverStats;
 use std::time::Instant;
 
 /// Armijo sufficient-decrease constant.
@@ -30,9 +30,9 @@ pub fn newton<const D: usize>(
     dt: f64,
     tolerance: f64,
     max_iterations: usize,
-) -> Result<StepStats, SolveError> {
+) -> Result<SolverStats, SolveError> {
     let n = x.len();
-    let mut stats = StepStats::default();
+    let mut stats = SolverStats::default();
     let mut gradient = vec![Vector::<D>::zeros(); n];
     let mut direction = vec![Vector::<D>::zeros(); n];
     let mut flat = vec![0.0; hessian.dofs()];
