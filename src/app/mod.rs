@@ -1,1 +1,43 @@
-//! The `run`, `check` and `scenes` commands: scene → simulation → outputs (filled in by the CLI work).
+//! The commands: `run`, `scenes`, `check` and `compare`, from parsed flags to outputs.
+//!
+//! [`run`] is what `main` calls. Every command first turns its flags and the
+//! scene into validated settings (bad input: [`AppError::exit_code`] 2),
+//! and only then starts work (failures: exit code 1).
+
+mod app_error;
+mod check_command;
+mod cli;
+mod compare_command;
+mod progress;
+mod render_glue;
+mod run_command;
+mod scenes_command;
+
+pub use app_error::AppError;
+pub use cli::{
+    CheckArgs, Cli, Command, CompareArgs, RunArgs, ScenesAction, ScenesArgs, VideoChoice,
+};
+pub use progress::{Progress, ProgressMode};
+
+use crate::scene::{SceneError, SceneOverride};
+
+/// Runs one command.
+pub fn run(cli: Cli) -> Result<(), AppError> {
+    match cli.command {
+        Command::Run(args) => run_command::run(&args),
+        Command::Scenes(args) => {
+            print!("{}", scenes_command::scenes(&args)?);
+            Ok(())
+        }
+        Command::Check(args) => {
+            print!("{}", check_command::check(&args)?);
+            Ok(())
+        }
+        Command::Compare(args) => compare_command::compare(&args),
+    }
+}
+
+/// Parses the `--set` arguments.
+fn scene_overrides(set: &[String]) -> Result<Vec<SceneOverride>, SceneError> {
+    set.iter().map(|s| s.parse()).collect()
+}

@@ -1,1 +1,15 @@
-//! Data outputs of a run: stats.csv, resolved scene, meshes (filled in by the CLI work).
+//! Data outputs of a run: the output folder, `stats.csv` and VTK meshes.
+//!
+//! Every write that fails names its file. Nothing a user made is lost: an
+//! existing non-empty output folder is refused unless the caller forces it,
+//! and even then only the files elasto writes are replaced.
+
+mod mesh_series_writer;
+mod output_dir;
+mod output_error;
+mod stats_writer;
+
+pub use mesh_series_writer::MeshSeriesWriter;
+pub use output_dir::OutputDir;
+pub use output_error::OutputError;
+pub use stats_writer::{STATS_COLUMNS, StatsWriter};

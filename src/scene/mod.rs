@@ -1,1 +1,34 @@
-//! Scene files: TOML description of a simulation, validated into typed settings (filled in by the scene work).
+//! Scene files: TOML description of a simulation, validated into typed settings.
+//!
+//! A scene is read once, before any work starts: the TOML text (a file or a
+//! built-in scene) is parsed, command-line overrides (`--set key.path=value`,
+//! `--frames`, `--resolution`) are applied to the parsed table, serde turns it
+//! into raw structs that deny unknown keys, and validation turns those into a
+//! [`Scene`] with every default filled in. Every error names the source file
+//! (or the flag), the dotted key and, for values in the file, the line:
+//!
+//! ```text
+//! scenes/mine.toml:12:9: `material.poisson`: must lie in (-1, 0.5), got 0.5
+//! --set time.frames=0 (scene built-in scene `report-drop-2d`): `time.frames`: must be at least 1, got 0
+//! ```
+//!
+//! Effects are listed explicitly: a scene without `[effects.gravity]` has no
+//! gravity term at all, and likewise for the ground and pinned vertices.
+
+mod raw_scene;
+mod scene_config;
+mod scene_document;
+mod scene_error;
+mod scene_override;
+mod scene_source;
+
+pub use scene_config::{
+    BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
+    DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
+    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
+    DEFAULT_TOLERANCE, FieldChoice, MAX_RESOLUTION, MaterialConfig, RenderConfig, Scene,
+    SceneConfig, TimeConfig,
+};
+pub use scene_error::{Diagnostic, Origin, SceneError};
+pub use scene_override::SceneOverride;
+pub use scene_source::{BUILTIN_SCENES, BuiltinScene, DEFAULT_SCENE, SceneSource, builtin_scene};

@@ -1,0 +1,85 @@
+//! Errors of the commands, each with its exit code (2: bad input, 1: failure).
+
+use crate::compare::CompareError;
+use crate::mesh::MeshError;
+use crate::output::OutputError;
+use crate::render::RenderError;
+use crate::scene::SceneError;
+use crate::sim::SimError;
+
+/// Why a command stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// The scene could not be found, parsed or validated.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The box mesh of the scene is invalid.
+    #[error("the mesh of scene `{scene}` is invalid")]
+    Mesh {
+        /// Scene name.
+        scene: String,
+        /// Why.
+        source: MeshError,
+    },
+    /// The simulation rejected the scene before stepping.
+    #[error("cannot set up scene `{scene}`")]
+    Setup {
+        /// Scene name.
+        scene: String,
+        /// Why.
+        source: SimError,
+    },
+    /// The requested video format is not available here (e.g. MP4 without ffmpeg).
+    #[error("--video {choice} is not available: {reason}")]
+    Video {
+        /// The flag value.
+        choice: String,
+        /// Why.
+        reason: String,
+    },
+    /// The output folder cannot be used or a file cannot be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// The solver failed while producing an output frame.
+    #[error("simulation of scene `{scene}` failed while computing frame {frame}")]
+    Simulation {
+        /// Scene name.
+        scene: String,
+        /// Output frame being computed.
+        frame: usize,
+        /// The solver error (names the step).
+        source: SimError,
+    },
+    /// Rendering failed.
+    #[error("rendering failed")]
+    Render(#[source] RenderError),
+    /// Image comparison could not start (missing folders, unreadable images).
+    #[error("cannot compare frames")]
+    Compare(#[source] CompareError),
+    /// Some frames differ from their golden images.
+    #[error("{failed} of {total} frames differ from the golden images")]
+    FramesDiffer {
+        /// Frames that did not pass.
+        failed: usize,
+        /// Frames compared.
+        total: usize,
+    },
+}
+
+impl AppError {
+    /// The process exit code: 2 for bad input (scene, flags, mesh, an
+    /// existing output folder, comparison inputs), 1 for a failure while
+    /// working (solver, renderer, writing a file, frames that differ).
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            AppError::Scene(_)
+            | AppError::Mesh { .. }
+            | AppError::Setup { .. }
+            | AppError::Video { .. } => 2,
+            AppError::Compare(_) => 2,
+            AppError::Output(OutputError::NotEmpty { .. } | OutputError::NotADirectory { .. }) => 2,
+            AppError::Output(OutputError::Io { .. }) => 1,
+            AppError::Simulation { .. } | AppError::Render(_) | AppError::FramesDiffer { .. } => 1,
+        }
+    }
+}

@@ -1,0 +1,114 @@
+//! `elasto check`: validate a scene and print what would be simulated.
+
+use super::cli::CheckArgs;
+use super::{AppError, scene_overrides};
+use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
+use crate::sim::Simulation;
+use crate::solver::SolverMethod;
+use std::fmt::Write as _;
+
+/// Runs `elasto check`, returning the summary it prints.
+pub fn check(args: &CheckArgs) -> Result<String, AppError> {
+    let source = SceneSource::resolve(Some(&args.scene))?;
+    let overrides = scene_overrides(&args.set)?;
+    let scene = Scene::load(&source, &overrides)?;
+    let barrier = match &scene {
+        Scene::Two(c) => barrier_stiffness(c)?,
+        Scene::Three(c) => barrier_stiffness(c)?,
+    };
+    Ok(summary(&source, &scene, barrier))
+}
+
+/// Builds the mesh and the simulation (no stepping) so that every setup error
+/// shows here, and reports the barrier stiffness in use.
+fn barrier_stiffness<const D: usize>(config: &SceneConfig<D>) -> Result<Option<f64>, AppError> {
+    let mesh = config.mesh.build().map_err(|source| AppError::Mesh {
+        scene: config.name.clone(),
+        source,
+    })?;
+    let sim = Simulation::new(
+        mesh,
+        config.material.material,
+        config.material.density,
+        config.effects.clone(),
+        config.simulation_settings(),
+        config.initial_velocity,
+    )
+    .map_err(|source| AppError::Setup {
+        scene: config.name.clone(),
+        source,
+    })?;
+    Ok(sim.barrier_stiffness())
+}
+
+fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String {
+    let mut s = String::new();
+    let time = scene.time();
+    let material = scene.material();
+    let lame = material.material.lame();
+    let solver = scene.solver();
+    let effects = scene.effect_names();
+    let render = scene.render();
+    let _ = writeln!(s, "scene `{}` ({}) is valid", scene.name(), source.label);
+    let _ = writeln!(s, "  dimension       {}", scene.dimension());
+    let _ = writeln!(
+        s,
+        "  mesh            {} vertices, {} elements",
+        scene.vertex_count(),
+        scene.element_count()
+    );
+    let _ = writeln!(
+        s,
+        "  material        {}, mu = {}, lambda = {}, density = {}",
+        material.model_name(),
+        lame.mu,
+        lame.lambda,
+        material.density
+    );
+    let _ = writeln!(
+        s,
+        "  effects         {}",
+        if effects.is_empty() {
+            "none".into()
+        } else {
+            effects.join(", ")
+        }
+    );
+    if let Some(ground) = scene.ground() {
+        let _ = writeln!(
+            s,
+            "  ground          height {}, barrier width a = {}, stiffness kappa = {}",
+            ground.height,
+            ground.activation_distance,
+            barrier.map_or("?".into(), |k| format!("{k}"))
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  time            dt = {:.6e} s, {} substeps per frame, {} frames at {} fps ({} s)",
+        time.dt,
+        time.substeps,
+        time.frames,
+        time.fps,
+        time.frames as f64 / time.fps
+    );
+    let method = match solver.method {
+        SolverMethod::Newton => "newton".to_owned(),
+        SolverMethod::GradientDescent { step } => format!("gradient-descent (step {step})"),
+    };
+    let _ = writeln!(
+        s,
+        "  solver          {method}, tolerance {} length/s, at most {} iterations per step",
+        solver.tolerance, solver.max_iterations
+    );
+    let field = match render.field {
+        FieldChoice::Flat => "flat colour".to_owned(),
+        f => f.name().to_owned(),
+    };
+    let _ = writeln!(
+        s,
+        "  render          {}x{}, {field}",
+        render.resolution[0], render.resolution[1]
+    );
+    s
+}

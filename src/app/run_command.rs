@@ -1,0 +1,262 @@
+//! `elasto run`: validate everything, then simulate, write data, render.
+//!
+//! Frame `i` of a run is the state at time `i / fps`, for `i = 0 .. frames - 1`;
+//! frame 0 is the initial state, so a run simulates `(frames - 1) * substeps`
+//! steps and its video lasts `frames / fps` seconds.
+
+use super::cli::{RunArgs, VideoChoice};
+use super::progress::{Progress, ProgressMode};
+use super::render_glue::{
+    mp4_available, render_frame, render_mesh, render_settings, video_file_name,
+};
+use super::{AppError, scene_overrides};
+use crate::math::{UP_AXIS, Vector};
+use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
+use crate::render::{RenderFrame, RenderOutputs, VideoFormat, render_sequence};
+use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
+use crate::sim::{ElementField, FrameStats, PhaseTimes, Simulation};
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Runs `elasto run`.
+pub fn run(args: &RunArgs) -> Result<(), AppError> {
+    // 1. Everything the user gave is validated before anything is written.
+    let source = SceneSource::resolve(args.scene.as_deref())?;
+    let mut overrides = scene_overrides(&args.set)?;
+    if let Some(frames) = args.frames {
+        overrides.push(SceneOverride::remove(
+            "time.duration",
+            format!("--frames {frames}"),
+        )?);
+        overrides.push(SceneOverride::set(
+            "time.frames",
+            &frames.to_string(),
+            format!("--frames {frames}"),
+        )?);
+    }
+    if let Some((w, h)) = args.resolution {
+        let flag = format!("--resolution {w}x{h}");
+        overrides.push(SceneOverride::set(
+            "render.resolution",
+            &format!("[{w}, {h}]"),
+            flag,
+        )?);
+    }
+    let (scene, resolved) = Scene::load_resolved(&source, &overrides)?;
+    let videos = if args.no_render {
+        Vec::new()
+    } else {
+        videos(args.video)?
+    };
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(scene.name()));
+    let plan = Plan {
+        out,
+        resolved,
+        videos,
+        render: !args.no_render,
+        save_meshes: args.save_meshes,
+        force: args.force,
+        progress: ProgressMode::detect(args.quiet),
+    };
+    match &scene {
+        Scene::Two(config) => run_scene(config, &plan),
+        Scene::Three(config) => run_scene(config, &plan),
+    }
+}
+
+/// What to do with a validated scene.
+struct Plan {
+    out: PathBuf,
+    resolved: String,
+    videos: Vec<VideoFormat>,
+    render: bool,
+    save_meshes: bool,
+    force: bool,
+    progress: ProgressMode,
+}
+
+fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
+    Ok(match choice {
+        VideoChoice::Auto if mp4_available() => vec![VideoFormat::Apng, VideoFormat::Mp4],
+        VideoChoice::Auto | VideoChoice::Apng => vec![VideoFormat::Apng],
+        VideoChoice::None => Vec::new(),
+        VideoChoice::Gif => vec![VideoFormat::Gif],
+        VideoChoice::Mp4 => {
+            if !mp4_available() {
+                return Err(AppError::Video {
+                    choice: "mp4".into(),
+                    reason: "ffmpeg with the libx264 encoder was not found on PATH (install ffmpeg, or use --video apng)"
+                        .into(),
+                });
+            }
+            vec![VideoFormat::Mp4]
+        }
+    })
+}
+
+fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(), AppError> {
+    let name = config.name.clone();
+    let mesh = config.mesh.build().map_err(|source| AppError::Mesh {
+        scene: name.clone(),
+        source,
+    })?;
+    let masses = mesh.lumped_masses(config.material.density);
+    let render_mesh = plan.render.then(|| render_mesh(&mesh));
+    let mut sim = Simulation::new(
+        mesh,
+        config.material.material,
+        config.material.density,
+        config.effects.clone(),
+        config.simulation_settings(),
+        config.initial_velocity,
+    )
+    .map_err(|source| AppError::Setup {
+        scene: name.clone(),
+        source,
+    })?;
+
+    // 2. The output folder: refused (untouched) when it holds anything, unless --force.
+    let out = OutputDir::check(&plan.out, plan.force)?;
+    out.prepare()?;
+    out.write("scene.toml", &resolved_header(&plan.resolved))?;
+    let mut stats = StatsWriter::create(&out.join("stats.csv"))?;
+    let mut meshes = if plan.save_meshes {
+        Some(MeshSeriesWriter::create(&out.join("meshes"))?)
+    } else {
+        None
+    };
+
+    // 3. Simulate frame by frame, streaming the data outputs.
+    let field = config.render.field.element_field();
+    let field_name = match field {
+        ElementField::EnergyDensity => "energy_density",
+        ElementField::VonMises => "von_mises",
+        ElementField::VolumeRatio => "volume_ratio",
+    };
+    let frames = config.time.frames;
+    let mut render_frames: Vec<RenderFrame> =
+        Vec::with_capacity(if plan.render { frames } else { 0 });
+    let mut progress = Progress::start(plan.progress, "simulate", frames);
+    for frame in 0..frames {
+        let frame_stats = if frame == 0 {
+            initial_stats(&sim, &masses, config)
+        } else {
+            sim.advance_frame(config.time.substeps)
+                .map_err(|source| AppError::Simulation {
+                    scene: name.clone(),
+                    frame,
+                    source,
+                })?
+        };
+        stats.write_frame(frame, &frame_stats)?;
+        if meshes.is_some() || plan.render {
+            let values = sim.element_field(field);
+            if let Some(writer) = &mut meshes {
+                writer.write_frame(
+                    frame,
+                    frame_stats.time,
+                    sim.mesh(),
+                    sim.positions(),
+                    &[(field_name, &values)],
+                )?;
+            }
+            if plan.render {
+                render_frames.push(render_frame(sim.positions(), &values));
+            }
+        }
+        progress.update(frame + 1, || {
+            format!(
+                "t = {:.3} s, {} Newton iterations, {} backtracks",
+                frame_stats.time, frame_stats.iterations, frame_stats.backtracks
+            )
+        });
+    }
+    progress.finish();
+
+    // 4. Render the frames and the video.
+    if let Some(render_mesh) = render_mesh {
+        let settings = render_settings(&config.render, config.effects.ground.map(|g| g.height));
+        let outputs = RenderOutputs {
+            frames_dir: out.join("frames"),
+            video_dir: out.path().to_owned(),
+            videos: plan.videos.clone(),
+            fps: config.time.fps,
+        };
+        let mut progress = Progress::start(plan.progress, "render", frames);
+        render_sequence(
+            &settings,
+            &render_mesh,
+            &render_frames,
+            &outputs,
+            &mut |i| progress.update(i + 1, || format!("frame_{i:04}.png")),
+        )
+        .map_err(AppError::Render)?;
+        progress.finish();
+    }
+
+    if plan.progress != ProgressMode::Quiet {
+        let mut wrote = vec!["scene.toml".to_owned(), "stats.csv".to_owned()];
+        if plan.save_meshes {
+            wrote.push("meshes/".into());
+        }
+        if plan.render {
+            wrote.push("frames/".into());
+            wrote.extend(plan.videos.iter().map(|v| video_file_name(*v).to_owned()));
+        }
+        eprintln!(
+            "{name}: {frames} frames written to {}: {}",
+            out.path().display(),
+            wrote.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// The resolved scene with a note on how to reuse it.
+fn resolved_header(resolved: &str) -> String {
+    format!(
+        "# The fully resolved scene of this run (defaults filled in, overrides applied).\n\
+         # Reproduce the run with: elasto run path/to/this/scene.toml\n\n{resolved}"
+    )
+}
+
+/// Statistics of frame 0, the initial state (no steps taken).
+fn initial_stats<const D: usize>(
+    sim: &Simulation<D>,
+    masses: &[f64],
+    config: &SceneConfig<D>,
+) -> FrameStats<D> {
+    let positions = sim.positions();
+    let total_mass: f64 = masses.iter().sum();
+    let centre_of_mass = positions
+        .iter()
+        .zip(masses)
+        .fold(Vector::<D>::zeros(), |acc, (x, m)| acc + x * *m)
+        / total_mass;
+    let min_height = config.effects.ground.map(|g| {
+        positions
+            .iter()
+            .map(|x| x[UP_AXIS] - g.height)
+            .fold(f64::INFINITY, f64::min)
+    });
+    let min_volume_ratio = sim
+        .element_field(ElementField::VolumeRatio)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min);
+    FrameStats {
+        time: sim.time(),
+        iterations: 0,
+        linear_solves: 0,
+        backtracks: 0,
+        unconverged_steps: 0,
+        energy: sim.energies(),
+        centre_of_mass,
+        min_height,
+        min_volume_ratio,
+        times: PhaseTimes::default(),
+        wall_time: Duration::ZERO,
+    }
+}

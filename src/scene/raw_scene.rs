@@ -1,0 +1,210 @@
+//! The scene file as written: serde structs mirroring the TOML, before validation.
+//!
+//! Every table denies unknown keys. Optional keys are `Option`s here; the
+//! validated [`Scene`](super::Scene) fills in defaults, and
+//! [`RawScene::resolved`](super::Scene::resolved_toml) writes the filled-in
+//! form back so a run can be reproduced exactly.
+
+use serde::{Deserialize, Serialize};
+
+/// The whole scene file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScene {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    pub dimension: u64,
+    pub mesh: RawMesh,
+    pub material: RawMaterial,
+    #[serde(default)]
+    pub time: RawTime,
+    #[serde(default)]
+    pub solver: RawSolver,
+    #[serde(default)]
+    pub effects: RawEffects,
+    #[serde(default)]
+    pub render: RawRender,
+}
+
+/// Mesh generators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum Generator {
+    /// An axis-aligned box split into simplices.
+    #[default]
+    Box,
+}
+
+/// `[mesh]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMesh {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub generator: Option<Generator>,
+    pub size: Vec<f64>,
+    pub cells: Vec<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub offset: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<Vec<f64>>,
+}
+
+/// Material models.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum Model {
+    /// St. Venant-Kirchhoff.
+    Stvk,
+    /// Neo-Hookean.
+    NeoHookean,
+}
+
+/// `[material]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMaterial {
+    pub model: Model,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub young: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub poisson: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lambda: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+}
+
+/// `[time]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTime {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fps: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub substeps: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub duration: Option<f64>,
+}
+
+/// Solver methods.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum Method {
+    /// Projected Newton.
+    #[default]
+    Newton,
+    /// Fixed-step gradient descent.
+    GradientDescent,
+}
+
+/// `[solver]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSolver {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method: Option<Method>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_iterations: Option<u64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<f64>,
+}
+
+/// `[effects]`: each sub-table present is an effect that exists.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEffects {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gravity: Option<RawGravity>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ground: Option<RawGround>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pinned: Option<RawPinned>,
+}
+
+/// `[effects.gravity]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawGravity {
+    pub acceleration: Vec<f64>,
+}
+
+/// `[effects.ground]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawGround {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kappa: Option<f64>,
+}
+
+/// `[effects.pinned]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawPinned {
+    pub min: Vec<f64>,
+    pub max: Vec<f64>,
+}
+
+/// Colouring fields.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum FieldName {
+    /// Strain-energy density.
+    #[default]
+    EnergyDensity,
+    /// Von Mises stress.
+    VonMises,
+    /// Volume ratio `J`.
+    VolumeRatio,
+    /// One flat colour.
+    Flat,
+}
+
+/// `[render]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRender {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resolution: Option<Vec<u64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field: Option<FieldName>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub range: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colour: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub background: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub edges: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub legend: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<RawCamera>,
+}
+
+/// `[render.camera]`: 2D keys (`center`, `height`) or 3D keys (`eye`, `target`, `fov`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCamera {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eye: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov: Option<f64>,
+}

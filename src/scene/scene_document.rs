@@ -1,0 +1,224 @@
+//! A parsed scene file with its overrides merged in, keeping every key's position.
+//!
+//! The file is parsed into toml's spanned tree (`DeTable`); each override is
+//! parsed on its own and grafted in with *virtual* spans past the end of the
+//! file text: override `k` owns the range starting at
+//! `len + 1 + k * OVERRIDE_SPAN`, its key part at depth `d` gets offset `d`
+//! and its value the offset after the last key part. Every later error
+//! carries a span, so it can say whether the bad value came from the file
+//! (then with its line and column) or from which flag, and which key it is.
+
+use super::raw_scene::RawScene;
+use super::scene_error::{Diagnostic, Origin, SceneError};
+use super::{SceneOverride, SceneSource};
+use serde::Deserialize;
+use std::borrow::Cow;
+use std::ops::Range;
+use toml::Spanned;
+use toml::de::{DeArray, DeTable, DeValue};
+
+/// Width of the virtual span range of one override (more than any key depth).
+const OVERRIDE_SPAN: usize = 1 << 16;
+
+/// The merged tree and what is needed to explain a span.
+pub(crate) struct SceneDocument<'a> {
+    source: &'a SceneSource,
+    overrides: &'a [SceneOverride],
+    root: Spanned<DeTable<'a>>,
+}
+
+impl<'a> SceneDocument<'a> {
+    /// Parses the source and applies the overrides in order.
+    pub fn parse(
+        source: &'a SceneSource,
+        overrides: &'a [SceneOverride],
+    ) -> Result<Self, SceneError> {
+        let mut root = DeTable::parse(&source.text).map_err(|e| {
+            let mut reason = format!("invalid TOML: {}", e.message().trim_end());
+            if reason.ends_with(':') {
+                reason.pop();
+            }
+            let origin = e
+                .span()
+                .map(|s| file_position(&source.text, s.start))
+                .unwrap_or(Origin::Scene);
+            SceneError::Invalid(Box::new(Diagnostic {
+                source: source.label.clone(),
+                origin,
+                key: None,
+                reason,
+            }))
+        })?;
+        let base = source.text.len() + 1;
+        for (k, o) in overrides.iter().enumerate() {
+            apply(root.get_mut(), o, base + k * OVERRIDE_SPAN).map_err(|reason| {
+                SceneError::Invalid(Box::new(Diagnostic {
+                    source: source.label.clone(),
+                    origin: Origin::Flag(o.flag.clone()),
+                    key: Some(o.key()),
+                    reason,
+                }))
+            })?;
+        }
+        Ok(Self {
+            source,
+            overrides,
+            root,
+        })
+    }
+
+    /// Deserialises the merged tree; serde errors are located by their span.
+    pub fn deserialize(&self) -> Result<RawScene, SceneError> {
+        let deserializer = toml::de::Deserializer::from(self.root.clone());
+        RawScene::deserialize(deserializer).map_err(|e| {
+            let span = e.span();
+            let key = span
+                .as_ref()
+                .and_then(|s| path_at(self.root.get_ref(), s, &mut Vec::new()));
+            let origin = span.map(|s| self.origin_of(&s)).unwrap_or(Origin::Scene);
+            SceneError::Invalid(Box::new(Diagnostic {
+                source: self.source.label.clone(),
+                origin,
+                key,
+                reason: e.message().trim_end().to_owned(),
+            }))
+        })
+    }
+
+    /// A diagnostic for `key` (dotted): located at the key's value when it is
+    /// present, else at the nearest present parent table.
+    pub fn error(&self, key: &str, reason: impl Into<String>) -> SceneError {
+        let parts: Vec<&str> = key.split('.').collect();
+        let mut table = self.root.get_ref();
+        let mut span = None;
+        for (i, part) in parts.iter().enumerate() {
+            let Some(value) = table.get(*part) else { break };
+            span = Some(value.span());
+            match value.get_ref() {
+                DeValue::Table(t) if i + 1 < parts.len() => table = t,
+                _ => break,
+            }
+        }
+        let origin = span.map(|s| self.origin_of(&s)).unwrap_or(Origin::Scene);
+        SceneError::Invalid(Box::new(Diagnostic {
+            source: self.source.label.clone(),
+            origin,
+            key: Some(key.to_owned()),
+            reason: reason.into(),
+        }))
+    }
+
+    /// The label of the source, for messages.
+    pub fn source(&self) -> &SceneSource {
+        self.source
+    }
+
+    fn origin_of(&self, span: &Range<usize>) -> Origin {
+        let base = self.source.text.len() + 1;
+        if span.start >= base {
+            match self.overrides.get((span.start - base) / OVERRIDE_SPAN) {
+                Some(o) => Origin::Flag(o.flag.clone()),
+                None => Origin::Scene,
+            }
+        } else {
+            file_position(&self.source.text, span.start)
+        }
+    }
+}
+
+/// 1-based line and column (in characters) of a byte offset.
+fn file_position(text: &str, offset: usize) -> Origin {
+    let offset = offset.min(text.len());
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let column = text[line_start..offset].chars().count() + 1;
+    Origin::File { line, column }
+}
+
+/// Grafts one override into the tree; its virtual spans start at `start`.
+fn apply<'a>(root: &mut DeTable<'a>, o: &'a SceneOverride, start: usize) -> Result<(), String> {
+    let (last, parents) = o
+        .path
+        .split_last()
+        .expect("an override key has at least one part");
+    let at = |depth: usize| start + depth..start + depth + 1;
+    let mut table = root;
+    let mut walked = Vec::new();
+    for (depth, part) in parents.iter().enumerate() {
+        walked.push(part.as_str());
+        let entry = table
+            .entry(Spanned::new(at(depth), Cow::Borrowed(part.as_str())))
+            .or_insert_with(|| Spanned::new(at(depth), DeValue::Table(DeTable::new())));
+        match entry.get_mut() {
+            DeValue::Table(t) => table = t,
+            other => {
+                return Err(format!(
+                    "`{}` is a {}, not a table",
+                    walked.join("."),
+                    other.type_str()
+                ));
+            }
+        }
+    }
+    table.remove(last.as_str());
+    if let Some(text) = &o.value {
+        let span = at(o.path.len());
+        let value = match DeValue::parse(text) {
+            Ok(v) => respan(v.into_inner(), &span),
+            // Not a TOML value: take the text as a string, so that
+            // `--set material.model=neo-hookean` needs no quotes.
+            Err(_) => Spanned::new(span, DeValue::String(Cow::Borrowed(text.as_str()))),
+        };
+        table.insert(
+            Spanned::new(at(parents.len()), Cow::Borrowed(last.as_str())),
+            value,
+        );
+    }
+    Ok(())
+}
+
+/// Gives a value and everything inside it the override's virtual span.
+fn respan<'a>(value: DeValue<'a>, span: &Range<usize>) -> Spanned<DeValue<'a>> {
+    let value = match value {
+        DeValue::Array(items) => DeValue::Array(
+            items
+                .into_iter()
+                .map(|v| respan(v.into_inner(), span))
+                .collect::<DeArray<'a>>(),
+        ),
+        DeValue::Table(t) => {
+            let mut out = DeTable::new();
+            for (k, v) in t {
+                out.insert(
+                    Spanned::new(span.clone(), k.into_inner()),
+                    respan(v.into_inner(), span),
+                );
+            }
+            DeValue::Table(out)
+        }
+        other => other,
+    };
+    Spanned::new(span.clone(), value)
+}
+
+/// The dotted path of the entry whose key span equals `span` or whose value
+/// span contains it, searching depth first (the deepest match wins).
+fn path_at(table: &DeTable<'_>, span: &Range<usize>, prefix: &mut Vec<String>) -> Option<String> {
+    for (key, value) in table.iter() {
+        prefix.push(key.get_ref().to_string());
+        if let DeValue::Table(inner) = value.get_ref()
+            && let Some(found) = path_at(inner, span, prefix)
+        {
+            return Some(found);
+        }
+        let value_span = value.span();
+        if key.span() == *span || (value_span.start <= span.start && span.end <= value_span.end) {
+            let found = prefix.join(".");
+            prefix.pop();
+            return Some(found);
+        }
+        prefix.pop();
+    }
+    None
+}

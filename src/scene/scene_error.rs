@@ -1,0 +1,89 @@
+//! Errors of reading and validating a scene: each names the file (or flag), the key and the line.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// Where a bad value came from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Origin {
+    /// A position in the scene file (1-based line and column).
+    File {
+        /// Line number, from 1.
+        line: usize,
+        /// Column number (characters), from 1.
+        column: usize,
+    },
+    /// A command-line override, as the user typed it (e.g. `--set time.frames=0`).
+    Flag(String),
+    /// The scene as a whole (e.g. a key that is missing and has no default).
+    Scene,
+}
+
+/// One problem in a scene, with its origin and dotted key.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// The scene file's path, or `built-in scene NAME`.
+    pub source: String,
+    /// Where in the file, or which flag.
+    pub origin: Origin,
+    /// The dotted key, e.g. `material.young` (`None` for a TOML syntax error).
+    pub key: Option<String>,
+    /// What is wrong.
+    pub reason: String,
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.origin {
+            Origin::File { line, column } => write!(f, "{}:{line}:{column}: ", self.source)?,
+            Origin::Flag(flag) => write!(f, "{flag} (scene {}): ", self.source)?,
+            Origin::Scene => write!(f, "{}: ", self.source)?,
+        }
+        if let Some(key) = &self.key {
+            write!(f, "`{key}`: ")?;
+        }
+        write!(f, "{}", self.reason)
+    }
+}
+
+/// Errors of finding, reading, parsing or validating a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("cannot read scene file {path}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// Neither a file nor a built-in scene has this name.
+    #[error("no scene file or built-in scene named `{name}` (built-in scenes: {available})")]
+    NotFound {
+        /// What the user asked for.
+        name: String,
+        /// Comma-separated built-in names.
+        available: String,
+    },
+    /// A `--set` argument is malformed (no `=`, empty key, ...).
+    #[error("invalid `{flag}`: {reason}")]
+    BadOverride {
+        /// The flag as typed.
+        flag: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The scene is malformed or out of range.
+    #[error("{0}")]
+    Invalid(Box<Diagnostic>),
+}
+
+impl SceneError {
+    /// The diagnostic, when this is a malformed or out-of-range scene.
+    pub fn diagnostic(&self) -> Option<&Diagnostic> {
+        match self {
+            SceneError::Invalid(d) => Some(d),
+            _ => None,
+        }
+    }
+}

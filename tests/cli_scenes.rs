@@ -1,0 +1,98 @@
+//! `elasto scenes`, `scenes show` and `check` on every built-in scene.
+
+#[path = "cli_common.rs"]
+mod common;
+use common::*;
+
+const BUILTINS: [&str; 4] = [
+    "report-drop-2d",
+    "drop-3d",
+    "hanging-bar-2d",
+    "hanging-bar-3d",
+];
+
+#[test]
+fn scenes_lists_all_four_builtins() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto(tmp.path(), &["scenes"]);
+    assert_code(&o, 0);
+    let text = stdout(&o);
+    assert_eq!(text.lines().count(), 4, "{text}");
+    for (line, name) in text.lines().zip(BUILTINS) {
+        assert!(line.starts_with(name), "{line}");
+    }
+}
+
+#[test]
+fn scenes_show_prints_toml_that_parses_and_checks() {
+    let tmp = tempfile::tempdir().unwrap();
+    for name in BUILTINS {
+        let o = elasto(tmp.path(), &["scenes", "show", name]);
+        assert_code(&o, 0);
+        let text = stdout(&o);
+        let table: toml::Table = text.parse().unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(table["name"].as_str(), Some(name));
+        // The printed scene, saved as a file, is a valid scene of its own.
+        let file = tmp.path().join(format!("{name}-copy.toml"));
+        std::fs::write(&file, &text).unwrap();
+        let o = elasto(tmp.path(), &["check", file.to_str().unwrap()]);
+        assert_code(&o, 0);
+    }
+    let o = elasto(tmp.path(), &["scenes", "show", "nope"]);
+    assert_code(&o, 2);
+    assert!(stderr(&o).contains("nope"), "{}", stderr(&o));
+}
+
+#[test]
+fn every_builtin_passes_check_with_a_summary() {
+    let tmp = tempfile::tempdir().unwrap();
+    for name in BUILTINS {
+        let o = elasto(tmp.path(), &["check", name]);
+        assert_code(&o, 0);
+        let text = stdout(&o);
+        assert!(text.contains(&format!("scene `{name}`")), "{text}");
+        for word in [
+            "dimension",
+            "vertices",
+            "elements",
+            "effects",
+            "dt =",
+            "substeps",
+            "frames",
+            "material",
+        ] {
+            assert!(text.contains(word), "{name}: `{word}` missing in\n{text}");
+        }
+    }
+    let o = elasto(tmp.path(), &["check", "report-drop-2d"]);
+    let text = stdout(&o);
+    assert!(text.contains("36 vertices, 50 elements"), "{text}");
+    assert!(text.contains("gravity, ground"), "{text}");
+    assert!(text.contains("stiffness kappa = "), "{text}");
+    let o = elasto(tmp.path(), &["check", "hanging-bar-3d"]);
+    let text = stdout(&o);
+    assert!(
+        text.contains("dimension       3") && text.contains("gravity, pinned"),
+        "{text}"
+    );
+}
+
+#[test]
+fn check_applies_overrides() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto(
+        tmp.path(),
+        &[
+            "check",
+            "report-drop-2d",
+            "--set",
+            "mesh.cells=[2, 3]",
+            "--set",
+            "time.substeps=4",
+        ],
+    );
+    assert_code(&o, 0);
+    let text = stdout(&o);
+    assert!(text.contains("12 vertices, 12 elements"), "{text}");
+    assert!(text.contains("4 substeps"), "{text}");
+}
