@@ -76,6 +76,7 @@ impl AppError {
             | AppError::Mesh { .. }
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
+            AppError::Compare(CompareError::Write { .. }) => 1,
             AppError::Compare(_) => 2,
             AppError::Output(OutputError::NotEmpty { .. } | OutputError::NotADirectory { .. }) => 2,
             AppError::Output(OutputError::Io { .. }) => 1,

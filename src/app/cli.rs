@@ -99,12 +99,15 @@ pub struct CompareArgs {
     /// Folder for the difference images (default: FRAMES/../diff).
     #[arg(long, value_name = "DIR")]
     pub diff: Option<PathBuf>,
-    /// Largest accepted mean FLIP error per frame, in [0, 1].
-    #[arg(long, value_name = "X", default_value_t = 0.01)]
-    pub threshold_mean: f32,
-    /// Largest accepted FLIP error at the 99.5th percentile per frame, in [0, 1].
-    #[arg(long, value_name = "Y", default_value_t = 0.1)]
-    pub threshold_percentile: f32,
+    /// Largest accepted mean FLIP error per frame, in [0, 1] (default 0.02).
+    #[arg(long, value_name = "X")]
+    pub threshold_mean: Option<f32>,
+    /// Largest accepted FLIP error at the checked percentile, in [0, 1] (default 0.1).
+    #[arg(long, value_name = "Y")]
+    pub threshold_percentile: Option<f32>,
+    /// The percentile of the FLIP error map that `--threshold-percentile` bounds, in (0, 1) (default 0.999).
+    #[arg(long, value_name = "P")]
+    pub percentile: Option<f32>,
 }
 
 /// The `--video` choices.

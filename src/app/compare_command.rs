@@ -4,9 +4,6 @@ use super::AppError;
 use super::cli::CompareArgs;
 use crate::compare::{CompareThresholds, compare_directories};
 
-/// The percentile whose FLIP value `--threshold-percentile` bounds.
-const PERCENTILE: f32 = 0.995;
-
 /// Runs `elasto compare`: prints the report table, fails when a frame does not pass.
 pub fn compare(args: &CompareArgs) -> Result<(), AppError> {
     let diff = args.diff.clone().unwrap_or_else(|| {
@@ -17,10 +14,13 @@ pub fn compare(args: &CompareArgs) -> Result<(), AppError> {
             .unwrap_or_default();
         parent.join("diff")
     });
+    let defaults = CompareThresholds::default();
     let thresholds = CompareThresholds {
-        mean: args.threshold_mean,
-        percentile_value: args.threshold_percentile,
-        percentile: PERCENTILE,
+        mean: args.threshold_mean.unwrap_or(defaults.mean),
+        percentile_value: args
+            .threshold_percentile
+            .unwrap_or(defaults.percentile_value),
+        percentile: args.percentile.unwrap_or(defaults.percentile),
     };
     let report = compare_directories(&args.golden, &args.frames, &diff, &thresholds)
         .map_err(AppError::Compare)?;

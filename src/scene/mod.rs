@@ -9,7 +9,7 @@
 //!
 //! ```text
 //! scenes/mine.toml:12:9: `material.poisson`: must lie in (-1, 0.5), got 0.5
-//! --set time.frames=0 (scene built-in scene `report-drop-2d`): `time.frames`: must be at least 1, got 0
+//! --set time.frames=0 (in built-in scene `report-drop-2d`): `time.frames`: must be at least 1, got 0
 //! ```
 //!
 //! Effects are listed explicitly: a scene without `[effects.gravity]` has no

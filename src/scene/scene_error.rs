@@ -36,7 +36,7 @@ impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.origin {
             Origin::File { line, column } => write!(f, "{}:{line}:{column}: ", self.source)?,
-            Origin::Flag(flag) => write!(f, "{flag} (scene {}): ", self.source)?,
+            Origin::Flag(flag) => write!(f, "{flag} (in {}): ", self.source)?,
             Origin::Scene => write!(f, "{}: ", self.source)?,
         }
         if let Some(key) = &self.key {
