@@ -1,0 +1,203 @@
+//! `elasto compare` run as a binary on real PNG files: exit codes, the
+//! printed table and the difference images.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use image::{ImageFormat, Rgba, RgbaImage};
+
+/// A light frame with a dark-edged coloured box whose left edge is at `left`.
+fn box_frame(width: u32, height: u32, left: u32) -> RgbaImage {
+    RgbaImage::from_fn(width, height, |x, y| {
+        let inside =
+            (left..left + width / 3).contains(&x) && (height / 3..2 * height / 3).contains(&y);
+        let border = inside
+            && (x == left
+                || x == left + width / 3 - 1
+                || y == height / 3
+                || y == 2 * height / 3 - 1);
+        match (inside, border) {
+            (true, true) => Rgba([30, 30, 40, 255]),
+            (true, false) => Rgba([60, 170, 120, 255]),
+            _ => Rgba([240, 240, 240, 255]),
+        }
+    })
+}
+
+fn save(dir: &Path, name: &str, image: &RgbaImage) {
+    std::fs::create_dir_all(dir).unwrap();
+    image
+        .save_with_format(dir.join(name), ImageFormat::Png)
+        .unwrap();
+}
+
+/// `golden/` and `run/frames/` with three identical 160×120 frames.
+fn folders() -> (tempfile::TempDir, PathBuf, PathBuf) {
+    let tmp = tempfile::tempdir().unwrap();
+    let golden = tmp.path().join("golden");
+    let frames = tmp.path().join("run/frames");
+    for i in 0..3 {
+        let image = box_frame(160, 120, 20 + 30 * i);
+        save(&golden, &format!("frame_{i:04}.png"), &image);
+        save(&frames, &format!("frame_{i:04}.png"), &image);
+    }
+    (tmp, golden, frames)
+}
+
+fn compare(golden: &Path, frames: &Path, extra: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_elasto"))
+        .arg("compare")
+        .arg("--golden")
+        .arg(golden)
+        .arg("--frames")
+        .arg(frames)
+        .args(extra)
+        .output()
+        .expect("the elasto binary runs")
+}
+
+fn text(output: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}
+
+/// The table row of `name`.
+fn row<'a>(stdout: &'a str, name: &str) -> &'a str {
+    stdout
+        .lines()
+        .find(|l| l.starts_with(name))
+        .unwrap_or_else(|| panic!("no row for {name} in\n{stdout}"))
+}
+
+#[test]
+fn identical_frames_pass_with_exit_0() {
+    let (tmp, golden, frames) = folders();
+    let out = compare(&golden, &frames, &[]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    for i in 0..3 {
+        let r = row(&stdout, &format!("frame_{i:04}.png"));
+        assert!(r.ends_with("pass") && r.contains("0.000000"), "{r}");
+    }
+    // Difference images go beside the frames folder by default.
+    let diff = tmp.path().join("run/diff");
+    assert!(
+        diff.join("frame_0001.png").is_file(),
+        "no diff in {}",
+        diff.display()
+    );
+    assert!(diff.join("frame_0001.actual.png").is_file());
+}
+
+#[test]
+fn a_shifted_frame_fails_with_exit_1_and_is_named() {
+    let (tmp, golden, frames) = folders();
+    save(&frames, "frame_0001.png", &box_frame(160, 120, 54)); // 4 px to the right
+    let diff = tmp.path().join("diffs");
+    let out = compare(&golden, &frames, &["--diff", diff.to_str().unwrap()]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(row(&stdout, "frame_0001.png").contains("FAIL"), "{stdout}");
+    assert!(row(&stdout, "frame_0000.png").ends_with("pass"), "{stdout}");
+    assert!(row(&stdout, "frame_0002.png").ends_with("pass"), "{stdout}");
+    // The magma difference image shows where the box moved.
+    let d = image::open(diff.join("frame_0001.png"))
+        .unwrap()
+        .into_rgb8();
+    let dark = d.get_pixel(5, 5).0;
+    assert!(d.pixels().any(|p| p.0 != dark));
+}
+
+#[test]
+fn thresholds_from_the_command_line_are_used() {
+    let (_tmp, golden, frames) = folders();
+    save(&frames, "frame_0001.png", &box_frame(160, 120, 54));
+    let out = compare(
+        &golden,
+        &frames,
+        &["--threshold-mean", "1", "--threshold-percentile", "1"],
+    );
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(row(&stdout, "frame_0001.png").ends_with("pass"), "{stdout}");
+
+    let out = compare(&golden, &frames, &["--threshold-mean", "1.5"]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(
+        stderr.contains("mean") && stderr.contains("1.5"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_missing_frame_fails_with_exit_1() {
+    let (_tmp, golden, frames) = folders();
+    std::fs::remove_file(frames.join("frame_0002.png")).unwrap();
+    let out = compare(&golden, &frames, &[]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(
+        row(&stdout, "frame_0002.png").contains("MISSING"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn a_size_mismatch_fails_with_exit_1() {
+    let (_tmp, golden, frames) = folders();
+    save(&frames, "frame_0000.png", &box_frame(320, 240, 40));
+    let out = compare(&golden, &frames, &[]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    let r = row(&stdout, "frame_0000.png");
+    assert!(
+        r.contains("SIZE MISMATCH (golden 160x120, actual 320x240)"),
+        "{r}"
+    );
+}
+
+#[test]
+fn an_empty_golden_folder_is_an_error_naming_it() {
+    let (tmp, _golden, frames) = folders();
+    let empty = tmp.path().join("empty-golden");
+    std::fs::create_dir_all(&empty).unwrap();
+    let out = compare(&empty, &frames, &[]);
+    let (stdout, stderr) = text(&out);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    assert!(
+        stderr.contains("empty-golden") && stderr.contains("no *.png"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
