@@ -526,9 +526,7 @@ impl Validator<'_, '_> {
                     ));
                 }
                 let from_dt = nearest as usize;
-                if let Some(n) = substeps
-                    && n as usize != from_dt
-                {
+                if let Some(n) = substeps.filter(|&n| n as usize != from_dt) {
                     return Err(self.err(
                         "time.dt",
                         format!("dt = {dt} s means {from_dt} steps per frame at {fps} fps, but substeps = {n}"),

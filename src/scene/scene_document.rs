@@ -207,10 +207,12 @@ fn respan<'a>(value: DeValue<'a>, span: &Range<usize>) -> Spanned<DeValue<'a>> {
 fn path_at(table: &DeTable<'_>, span: &Range<usize>, prefix: &mut Vec<String>) -> Option<String> {
     for (key, value) in table.iter() {
         prefix.push(key.get_ref().to_string());
-        if let DeValue::Table(inner) = value.get_ref()
-            && let Some(found) = path_at(inner, span, prefix)
-        {
-            return Some(found);
+        let inner = match value.get_ref() {
+            DeValue::Table(inner) => path_at(inner, span, prefix),
+            _ => None,
+        };
+        if inner.is_some() {
+            return inner;
         }
         let value_span = value.span();
         if key.span() == *span || (value_span.start <= span.start && span.end <= value_span.end) {

@@ -33,7 +33,7 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     },
     BuiltinScene {
         name: "hanging-bar-3d",
-        description: "3D bar pinned at its top end, hanging down under gravity",
+        description: "soft 3D bar pinned at its top end, hanging down, bouncing and swinging",
         toml: include_str!("../../scenes/hanging-bar-3d.toml"),
     },
 ];
