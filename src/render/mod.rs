@@ -1,7 +1,32 @@
 //! Off-screen wgpu rendering of mesh frames to images and video.
 //!
-//! STUB: the public API below is the contract between the application layer
-//! and the renderer; the rendering work replaces the bodies.
+//! The renderer draws what it is given: vertex positions and one scalar per
+//! element, never materials or physics. A run goes
+//! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one RGBA8 image per frame)
+//! → [`render_sequence`] (numbered PNG frames, APNG / MP4 / GIF video).
+//!
+//! The GPU is whatever wgpu finds: a hardware adapter when present, otherwise
+//! a software one (on a GPU-less Linux machine, the GL backend over Mesa
+//! llvmpipe through EGL). `WGPU_BACKEND` (e.g. `gl`, `vulkan`) restricts the
+//! backends tried. Images are rendered with 4x MSAA into an sRGB target.
+//!
+//! Colours: element scalars go through [`viridis`] over one range for the
+//! whole run (automatic: min/max over all frames), so colours never flicker;
+//! the automatic camera frames the bounds of all frames, so it never jumps.
+
+mod camera;
+mod colormap;
+mod export;
+mod gpu;
+mod legend;
+mod mesh_view;
+mod renderer;
+mod video;
+
+pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
+pub use export::{check_video_support, frame_file_name};
+pub use gpu::adapter_description;
+pub use renderer::Renderer;
 
 use std::path::PathBuf;
 
@@ -75,18 +100,38 @@ pub struct RenderSettings {
     pub width: u32,
     /// Image height in pixels (default: 720).
     pub height: u32,
-    /// Camera (default: Auto).
+    /// Camera (default: [`Camera::Auto`]).
     pub camera: Camera,
-    /// Colouring (default: scalar, automatic range).
+    /// Colouring (default: scalar, automatic range, label "value").
     pub colouring: Colouring,
-    /// Background colour, linear RGB.
+    /// Background colour, linear RGB (default: `[0.913; 3]`, sRGB 245 grey).
+    /// 3D scenes shade it into a soft vertical gradient.
     pub background: [f32; 3],
-    /// Ground height along y, drawn when present.
+    /// Ground height along y, in scene units, drawn when present (default: none).
     pub ground_height: Option<f32>,
-    /// Draw mesh edges.
+    /// Draw mesh edges (default: true).
     pub draw_edges: bool,
-    /// Draw the colour-bar legend.
+    /// Draw the colour-bar legend with scalar colouring (default: true).
     pub draw_legend: bool,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self {
+            width: 1280,
+            height: 720,
+            camera: Camera::Auto,
+            colouring: Colouring::Scalar {
+                range: None,
+                label: "value",
+            },
+            // sRGB 245/255: a light, paper-like grey.
+            background: [0.913; 3],
+            ground_height: None,
+            draw_edges: true,
+            draw_legend: true,
+        }
+    }
 }
 
 /// Video container to write besides the PNG frames.
@@ -116,19 +161,92 @@ pub struct RenderOutputs {
 /// Errors of the renderer.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
-    /// Not implemented yet.
-    #[error("rendering is not implemented yet")]
-    NotImplemented,
+    /// No graphics adapter could be found.
+    #[error(
+        "no graphics adapter found (backends tried: {backends}); install a GPU driver or Mesa \
+         (llvmpipe, EGL) for software rendering, or set WGPU_BACKEND to another backend"
+    )]
+    NoAdapter {
+        /// The backends that were tried.
+        backends: String,
+    },
+    /// The adapter refused to create a device.
+    #[error("cannot open the graphics device on {adapter}: {message}")]
+    Device {
+        /// The adapter description.
+        adapter: String,
+        /// What wgpu reported.
+        message: String,
+    },
+    /// The GPU reported an error while rendering.
+    #[error("the GPU failed while {during}: {message}")]
+    Gpu {
+        /// What the renderer was doing.
+        during: &'static str,
+        /// What wgpu reported.
+        message: String,
+    },
+    /// Mesh, frames or settings do not fit together.
+    #[error("cannot render: {0}")]
+    InvalidInput(String),
+    /// The requested image is larger than the adapter allows.
+    #[error("image size {width}x{height} exceeds the adapter's limit of {max} pixels per side")]
+    ImageTooLarge {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// The adapter's maximum texture side.
+        max: u32,
+    },
+    /// A file or folder could not be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// An image or video encoder failed.
+    #[error("cannot encode {}: {message}", path.display())]
+    Encode {
+        /// The file being written.
+        path: PathBuf,
+        /// What the encoder reported.
+        message: String,
+    },
+    /// MP4 output was asked for but ffmpeg is not on PATH.
+    #[error(
+        "mp4 video needs ffmpeg, which was not found on PATH; install it (e.g. `apt-get install \
+         ffmpeg`) or ask for apng or gif video instead"
+    )]
+    FfmpegMissing,
+    /// ffmpeg exists but cannot encode H.264.
+    #[error("mp4 video needs ffmpeg with the libx264 encoder, which this ffmpeg lacks")]
+    FfmpegWithoutH264,
+    /// ffmpeg failed while writing the video.
+    #[error("ffmpeg failed writing {}: {message}", path.display())]
+    Ffmpeg {
+        /// The video being written.
+        path: PathBuf,
+        /// ffmpeg's exit status and error output.
+        message: String,
+    },
 }
 
 /// Renders every frame, writes PNG frames and the video. Calls `progress(i)`
 /// after frame `i` is written.
+///
+/// Frames go to `frames_dir/frame_0000.png`, `frame_0001.png`, ... (more
+/// digits past 10000 frames); videos to `video_dir/video.{png,mp4,gif}`. Every
+/// file appears under its final name only once complete. `progress` is
+/// called in frame order, on the calling thread.
 pub fn render_sequence(
-    _settings: &RenderSettings,
-    _mesh: &RenderMesh,
-    _frames: &[RenderFrame],
-    _outputs: &RenderOutputs,
-    _progress: &mut dyn FnMut(usize),
+    settings: &RenderSettings,
+    mesh: &RenderMesh,
+    frames: &[RenderFrame],
+    outputs: &RenderOutputs,
+    progress: &mut dyn FnMut(usize),
 ) -> Result<(), RenderError> {
-    Err(RenderError::NotImplemented)
+    export::render_sequence(settings, mesh, frames, outputs, progress)
 }

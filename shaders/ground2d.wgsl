@@ -1,0 +1,57 @@
+// 2D ground: the half-plane below the ground line, filled, with engineering
+// hatching just under the surface. Drawn in screen space from the ground's
+// pixel row; the surface line itself is drawn by the line pipeline.
+
+// Per-run uniforms, identical in every shader (see `Globals` in src/render/renderer.rs).
+struct Globals {
+    view_proj: mat4x4<f32>,
+    // Eye position (w = 1) or unit direction towards the viewer (w = 0).
+    eye: vec4<f32>,
+    // Direction towards the key light; w: how much lighting applies (0 in 2D).
+    light: vec4<f32>,
+    // Image width and height in pixels, pixel scale (height / 720), line pull towards the eye.
+    viewport: vec4<f32>,
+    // Ground height, checker tile size, fade start and end distance (3D).
+    ground: vec4<f32>,
+    // Ground centre x and z, quad half extent, ground surface pixel row (2D).
+    ground_center: vec4<f32>,
+    // Contact shadow centre x and z, radius x and z.
+    shadow: vec4<f32>,
+    // Contact shadow strength and softness.
+    shadow_params: vec4<f32>,
+    // Background at the top and bottom of the image, linear RGB.
+    sky_top: vec4<f32>,
+    sky_bottom: vec4<f32>,
+    // The two ground colours (fill and hatching in 2D, checker in 3D), linear RGB.
+    ground_light: vec4<f32>,
+    ground_dark: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> g: Globals;
+
+@vertex
+fn vs_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 1.0, 1.0);
+}
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let s = g.viewport.z;
+    let below = frag.y - g.ground_center.w;
+    if below < -0.5 {
+        discard;
+    }
+    // Anti-aliased top edge (hidden under the surface line anyway).
+    let cover = clamp(below + 0.5, 0.0, 1.0);
+    // Diagonal stripes: distance in pixels to the nearest stripe centre.
+    let spacing = 11.0 * s;
+    let along = (frag.x + frag.y) / spacing;
+    let distance = abs(fract(along) - 0.5) * spacing * 0.70710678;
+    let half_width = max(0.75 * s, 0.6);
+    let stripe = 1.0 - smoothstep(half_width - 0.6, half_width + 0.6, distance);
+    let band = 16.0 * s;
+    let fade = 1.0 - smoothstep(0.45 * band, band, below);
+    let colour = mix(g.ground_light.rgb, g.ground_dark.rgb, stripe * fade);
+    return vec4<f32>(colour, cover);
+}

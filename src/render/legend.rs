@@ -1,0 +1,378 @@
+//! The colour-bar legend, drawn on the CPU over the rendered image.
+//!
+//! A vertical viridis bar on the right, the label above it and "nice" tick
+//! values (1, 2, 2.5 or 5 times a power of ten) beside it, on a translucent
+//! white panel. Text uses an ASCII-and-symbols subset of DejaVu Sans (see
+//! `fonts/LICENSE-DejaVu.txt`), rasterised with ab_glyph. Sizes scale with the
+//! image height (reference: 720 pixels).
+
+use super::colormap::viridis;
+use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
+use image::RgbaImage;
+use std::sync::OnceLock;
+
+static FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans-subset.ttf");
+
+fn font() -> &'static FontRef<'static> {
+    static FONT: OnceLock<FontRef<'static>> = OnceLock::new();
+    FONT.get_or_init(|| {
+        FontRef::try_from_slice(FONT_BYTES).expect("the embedded font is a valid TrueType file")
+    })
+}
+
+/// Text colour, sRGB.
+const INK: [u8; 3] = [40, 40, 46];
+
+/// A laid-out legend for one image size and value range.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Legend {
+    label: String,
+    range: [f32; 2],
+    ticks: Vec<(f32, String)>,
+    font_px: f32,
+    panel: Rect,
+    bar: Rect,
+    margin: f32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Rect {
+    x: f32,
+    y: f32,
+    w: f32,
+    h: f32,
+}
+
+impl Legend {
+    /// Lays out a legend, or `None` when the image is too small to hold one
+    /// without covering much of the picture.
+    pub fn new(label: &str, range: [f32; 2], width: u32, height: u32) -> Option<Legend> {
+        let (w, h) = (width as f32, height as f32);
+        let s = h / 720.0;
+        let font_px = (17.0 * s).round().clamp(10.0, 72.0);
+        let margin = (18.0 * s).round().max(4.0);
+        let pad = (12.0 * s).round().max(3.0);
+        let bar_w = (18.0 * s).round().max(6.0);
+        let tick_len = (6.0 * s).round().max(2.0);
+        let gap = (5.0 * s).round().max(2.0);
+        let bar_h = (0.45 * h).round();
+
+        let ticks: Vec<(f32, String)> = nice_ticks(
+            range[0] as f64,
+            range[1] as f64,
+            if bar_h > 8.0 * font_px { 6 } else { 3 },
+        )
+        .into_iter()
+        .map(|(v, text)| (v as f32, text))
+        .collect();
+        let label_w = ticks
+            .iter()
+            .map(|(_, t)| text_width(t, font_px))
+            .fold(0.0, f32::max);
+        let title_w = text_width(label, font_px);
+        let title_h = if label.is_empty() { 0.0 } else { 1.6 * font_px };
+        let content_w = title_w.max(bar_w + tick_len + gap + label_w);
+        let panel_w = (content_w + 2.0 * pad).ceil();
+        let panel_h = (title_h + bar_h + font_px + 2.0 * pad).ceil();
+        if panel_w + 2.0 * margin > 0.45 * w || panel_h > h - 2.0 * margin {
+            return None;
+        }
+        let panel = Rect {
+            x: (w - margin - panel_w).round(),
+            y: ((h - panel_h) / 2.0).round(),
+            w: panel_w,
+            h: panel_h,
+        };
+        let bar = Rect {
+            x: panel.x
+                + pad
+                + ((content_w - (bar_w + tick_len + gap + label_w)) / 2.0)
+                    .max(0.0)
+                    .round(),
+            y: panel.y + pad + title_h + (0.5 * font_px).round(),
+            w: bar_w,
+            h: bar_h,
+        };
+        Some(Legend {
+            label: label.to_owned(),
+            range,
+            ticks,
+            font_px,
+            panel,
+            bar,
+            margin,
+        })
+    }
+
+    /// Pixels on the right the legend needs, including margins.
+    pub fn reserved_width(&self) -> u32 {
+        (self.panel.w + 2.0 * self.margin).ceil() as u32
+    }
+
+    /// Draws the legend onto an sRGB image.
+    pub fn draw(&self, image: &mut RgbaImage) {
+        let s = self.font_px / 17.0;
+        fill_rounded(image, self.panel, 6.0 * s, [255, 255, 255], 0.82);
+
+        if !self.label.is_empty() {
+            let title_w = text_width(&self.label, self.font_px);
+            let x = self.panel.x + (self.panel.w - title_w) / 2.0;
+            draw_text(
+                image,
+                &self.label,
+                x,
+                self.panel.y + (12.0 * s).round().max(3.0) + self.font_px,
+                self.font_px,
+            );
+        }
+
+        let bar = self.bar;
+        let (x0, x1) = (bar.x as i64, (bar.x + bar.w) as i64);
+        let (y0, y1) = (bar.y as i64, (bar.y + bar.h) as i64);
+        for y in y0..y1 {
+            let t = 1.0 - ((y - y0) as f32 + 0.5) / (y1 - y0) as f32;
+            let c = viridis(t).map(|v| (v * 255.0).round() as u8);
+            for x in x0..x1 {
+                blend(image, x, y, c, 1.0);
+            }
+        }
+        let border = (s.round() as i64).max(1);
+        stroke_rect(image, x0, y0, x1, y1, border, INK);
+
+        let tick_len = (6.0 * s).round().max(2.0) as i64;
+        let gap = (5.0 * s).round().max(2.0);
+        let span = self.range[1] - self.range[0];
+        for (value, text) in &self.ticks {
+            let y = bar.y + bar.h * (1.0 - (value - self.range[0]) / span);
+            let yi = y.round() as i64;
+            for dy in 0..border {
+                for x in x1..x1 + tick_len {
+                    blend(image, x, yi - border / 2 + dy, INK, 1.0);
+                }
+            }
+            let baseline = y + 0.36 * self.font_px;
+            draw_text(
+                image,
+                text,
+                (x1 + tick_len) as f32 + gap,
+                baseline,
+                self.font_px,
+            );
+        }
+    }
+}
+
+/// Ticks at 1, 2, 2.5 or 5 times a power of ten inside `[lo, hi]`, at most
+/// `max_ticks` of them, formatted with as many decimals as the step needs.
+pub(crate) fn nice_ticks(lo: f64, hi: f64, max_ticks: usize) -> Vec<(f64, String)> {
+    let span = hi - lo;
+    if span.is_nan() || span <= 0.0 || span.is_infinite() {
+        return vec![(lo, format_tick(lo, 1.0))];
+    }
+    let raw = span / (max_ticks.max(2) - 1) as f64;
+    let power = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+        .iter()
+        .map(|m| m * power)
+        .find(|&step| span / step <= (max_ticks - 1) as f64 + 1e-9)
+        .unwrap_or(10.0 * power);
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    (first..=last)
+        .map(|k| {
+            let v = k as f64 * step;
+            (v, format_tick(v, step))
+        })
+        .collect()
+}
+
+fn format_tick(v: f64, step: f64) -> String {
+    let magnitude = v.abs().max(step.abs());
+    let step_exponent = step.abs().log10().floor();
+    let text = if !(1e-3..1e5).contains(&magnitude) {
+        if v == 0.0 {
+            "0".to_owned()
+        } else {
+            // Scientific: as many mantissa digits as the step needs.
+            let digits = (magnitude.log10().floor() - step_exponent).clamp(0.0, 6.0) as usize;
+            format!("{v:.digits$e}")
+        }
+    } else {
+        // A step of 2.5 x 10^k needs one decimal more than 10^k.
+        let quarter = (step / 10f64.powf(step_exponent) - 2.5).abs() < 1e-9;
+        let decimals = (-step_exponent).max(0.0) as usize + usize::from(quarter);
+        format!("{v:.decimals$}")
+    };
+    text.replace('-', "\u{2212}")
+}
+
+fn text_width(text: &str, px: f32) -> f32 {
+    let font = font().as_scaled(PxScale::from(px));
+    let mut width = 0.0;
+    let mut previous = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        if let Some(p) = previous {
+            width += font.kern(p, id);
+        }
+        width += font.h_advance(id);
+        previous = Some(id);
+    }
+    width
+}
+
+fn draw_text(image: &mut RgbaImage, text: &str, x: f32, baseline: f32, px: f32) {
+    let font = font().as_scaled(PxScale::from(px));
+    let mut caret = x.round();
+    let mut previous = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        if let Some(p) = previous {
+            caret += font.kern(p, id);
+        }
+        let glyph = id.with_scale_and_position(px, ab_glyph::point(caret, baseline.round()));
+        caret += font.h_advance(id);
+        previous = Some(id);
+        if let Some(outline) = font.outline_glyph(glyph) {
+            let bounds = outline.px_bounds();
+            outline.draw(|gx, gy, coverage| {
+                blend(
+                    image,
+                    bounds.min.x as i64 + gx as i64,
+                    bounds.min.y as i64 + gy as i64,
+                    INK,
+                    coverage,
+                );
+            });
+        }
+    }
+}
+
+fn blend(image: &mut RgbaImage, x: i64, y: i64, colour: [u8; 3], alpha: f32) {
+    if x < 0 || y < 0 || x >= image.width() as i64 || y >= image.height() as i64 {
+        return;
+    }
+    let alpha = alpha.clamp(0.0, 1.0);
+    let pixel = image.get_pixel_mut(x as u32, y as u32);
+    for (channel, &target) in pixel.0.iter_mut().zip(&colour) {
+        *channel = (*channel as f32 * (1.0 - alpha) + target as f32 * alpha).round() as u8;
+    }
+}
+
+fn stroke_rect(
+    image: &mut RgbaImage,
+    x0: i64,
+    y0: i64,
+    x1: i64,
+    y1: i64,
+    width: i64,
+    colour: [u8; 3],
+) {
+    for y in y0 - width..y1 + width {
+        for x in x0 - width..x1 + width {
+            if x < x0 || x >= x1 || y < y0 || y >= y1 {
+                blend(image, x, y, colour, 1.0);
+            }
+        }
+    }
+}
+
+/// Fills a rounded rectangle, with anti-aliased corners.
+fn fill_rounded(image: &mut RgbaImage, r: Rect, radius: f32, colour: [u8; 3], alpha: f32) {
+    let (x0, y0) = (r.x.floor() as i64, r.y.floor() as i64);
+    let (x1, y1) = ((r.x + r.w).ceil() as i64, (r.y + r.h).ceil() as i64);
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let (px, py) = (x as f32 + 0.5, y as f32 + 0.5);
+            // Signed distance to the rounded box.
+            let qx = (px - (r.x + r.w / 2.0)).abs() - (r.w / 2.0 - radius);
+            let qy = (py - (r.y + r.h / 2.0)).abs() - (r.h / 2.0 - radius);
+            let outside =
+                (qx.max(0.0).powi(2) + qy.max(0.0).powi(2)).sqrt() + qx.max(qy).min(0.0) - radius;
+            let coverage = (0.5 - outside).clamp(0.0, 1.0);
+            if coverage > 0.0 {
+                blend(image, x, y, colour, alpha * coverage);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn values(ticks: &[(f64, String)]) -> Vec<String> {
+        ticks.iter().map(|(_, t)| t.clone()).collect()
+    }
+
+    #[test]
+    fn ticks_are_nice_and_inside() {
+        assert_eq!(
+            values(&nice_ticks(0.0, 1.0, 6)),
+            ["0.0", "0.2", "0.4", "0.6", "0.8", "1.0"]
+        );
+        assert_eq!(
+            values(&nice_ticks(0.13, 0.97, 6)),
+            ["0.2", "0.4", "0.6", "0.8"]
+        );
+        assert_eq!(
+            values(&nice_ticks(-10.0, 10.0, 6)),
+            ["\u{2212}10", "\u{2212}5", "0", "5", "10"]
+        );
+        assert_eq!(
+            values(&nice_ticks(0.0, 10.0, 6)),
+            ["0", "2", "4", "6", "8", "10"]
+        );
+        assert_eq!(
+            values(&nice_ticks(0.0, 10.0, 5)),
+            ["0.0", "2.5", "5.0", "7.5", "10.0"]
+        );
+        assert_eq!(
+            values(&nice_ticks(0.0, 3.0e6, 4)),
+            ["0", "1e6", "2e6", "3e6"]
+        );
+        assert_eq!(
+            values(&nice_ticks(0.0, 2.4e-4, 4)),
+            ["0", "1e-4", "2e-4"].map(|s| s.replace('-', "\u{2212}"))
+        );
+        assert_eq!(values(&nice_ticks(2.0, 2.0, 6)), ["2"]);
+    }
+
+    #[test]
+    fn legend_fits_or_steps_aside() {
+        let legend = Legend::new("strain energy density", [0.0, 1.0], 1280, 720).unwrap();
+        assert!(
+            legend.reserved_width() > 100 && legend.reserved_width() < 400,
+            "{}",
+            legend.reserved_width()
+        );
+        assert!(
+            Legend::new(
+                "a very long label that cannot fit in a tiny picture",
+                [0.0, 1.0],
+                160,
+                120
+            )
+            .is_none()
+        );
+    }
+
+    #[test]
+    fn drawing_changes_only_the_panel() {
+        let mut image = RgbaImage::from_pixel(640, 360, image::Rgba([10, 10, 10, 255]));
+        let legend = Legend::new("value", [0.0, 1.0], 640, 360).unwrap();
+        legend.draw(&mut image);
+        assert_eq!(image.get_pixel(5, 5).0, [10, 10, 10, 255]);
+        let bar_mid = image.get_pixel(
+            (legend.bar.x + legend.bar.w / 2.0) as u32,
+            (legend.bar.y + legend.bar.h / 2.0) as u32,
+        );
+        let expected = viridis(0.5).map(|v| (v * 255.0).round() as i32);
+        for c in 0..3 {
+            assert!(
+                (bar_mid.0[c] as i32 - expected[c]).abs() <= 3,
+                "{bar_mid:?} vs {expected:?}"
+            );
+        }
+    }
+}

@@ -1,0 +1,155 @@
+//! What the renderer sees of a simulation mesh: triangles to fill, the element
+//! that colours each, edges to draw; and frames converted to `f32`.
+//!
+//! 2D: every triangle of the mesh, and every unique mesh edge.
+//! 3D: the outward-oriented boundary triangles of the tetrahedral mesh, each
+//! coloured by the tetrahedron it bounds, and the unique edges of those
+//! triangles.
+
+use super::{RenderFrame, RenderMesh};
+use crate::math::Vector;
+use crate::mesh::Mesh;
+use std::collections::{BTreeSet, HashMap};
+
+impl RenderMesh {
+    /// Builds the render view of a 2D triangle mesh or a 3D tetrahedral mesh.
+    ///
+    /// # Panics
+    /// When `D` is neither 2 nor 3 (there is no such mesh in elasto).
+    pub fn from_mesh<const D: usize>(mesh: &Mesh<D>) -> RenderMesh {
+        let (triangles, triangle_element): (Vec<[u32; 3]>, Vec<u32>) = match D {
+            2 => mesh
+                .simplices()
+                .enumerate()
+                .map(|(element, s)| ([s[0] as u32, s[1] as u32, s[2] as u32], element as u32))
+                .unzip(),
+            3 => {
+                let owner = boundary_owners(mesh);
+                mesh.boundary_facets()
+                    .iter()
+                    .map(|f| {
+                        let triangle = [f[0] as u32, f[1] as u32, f[2] as u32];
+                        let element = owner[&sorted(&triangle)];
+                        (triangle, element)
+                    })
+                    .unzip()
+            }
+            _ => panic!("elasto renders 2D and 3D meshes, not {D}D ones"),
+        };
+        let edges: BTreeSet<[u32; 2]> = triangles
+            .iter()
+            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+            .map(|[a, b]| [a.min(b), a.max(b)])
+            .collect();
+        RenderMesh {
+            dimension: D,
+            triangles,
+            triangle_element,
+            edges: edges.into_iter().collect(),
+            element_count: mesh.element_count(),
+        }
+    }
+}
+
+/// For every face held by exactly one tetrahedron, that tetrahedron.
+fn boundary_owners<const D: usize>(mesh: &Mesh<D>) -> HashMap<[u32; 3], u32> {
+    let mut owners: HashMap<[u32; 3], (u32, usize)> = HashMap::new();
+    for (element, s) in mesh.simplices().enumerate() {
+        for opposite in 0..s.len() {
+            let mut face = [0u32; 3];
+            let mut k = 0;
+            for (i, &v) in s.iter().enumerate() {
+                if i != opposite {
+                    face[k] = v as u32;
+                    k += 1;
+                }
+            }
+            owners.entry(sorted(&face)).or_insert((element as u32, 0)).1 += 1;
+        }
+    }
+    owners
+        .into_iter()
+        .filter(|(_, (_, count))| *count == 1)
+        .map(|(face, (element, _))| (face, element))
+        .collect()
+}
+
+fn sorted(t: &[u32; 3]) -> [u32; 3] {
+    let mut t = *t;
+    t.sort_unstable();
+    t
+}
+
+impl RenderFrame {
+    /// Converts simulation positions and per-element values to a frame
+    /// (single precision; z = 0 in 2D).
+    pub fn from_positions<const D: usize>(
+        positions: &[Vector<D>],
+        element_values: &[f64],
+    ) -> RenderFrame {
+        RenderFrame {
+            positions: positions
+                .iter()
+                .map(|p| std::array::from_fn(|c| if c < D { p[c] as f32 } else { 0.0 }))
+                .collect(),
+            element_values: element_values.iter().map(|&v| v as f32).collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Vector2, Vector3};
+
+    #[test]
+    fn square_2d_has_all_triangles_and_unique_edges() {
+        let mesh =
+            Mesh::<2>::axis_aligned_box(Vector2::zeros(), Vector2::new(2.0, 1.0), [2, 1]).unwrap();
+        let view = RenderMesh::from_mesh(&mesh);
+        assert_eq!(view.dimension, 2);
+        assert_eq!(view.triangles.len(), 4);
+        assert_eq!(view.triangle_element, vec![0, 1, 2, 3]);
+        assert_eq!(view.element_count, 4);
+        // 2x1 cells: 7 grid edges + 2 diagonals.
+        assert_eq!(view.edges.len(), 9);
+        assert!(view.edges.iter().all(|e| e[0] < e[1]));
+    }
+
+    #[test]
+    fn cube_3d_boundary_is_closed_outward_and_owned() {
+        let mesh =
+            Mesh::<3>::axis_aligned_box(Vector3::zeros(), Vector3::repeat(1.0), [2, 2, 2]).unwrap();
+        let view = RenderMesh::from_mesh(&mesh);
+        assert_eq!(view.dimension, 3);
+        // 6 faces x 2x2 squares x 2 triangles.
+        assert_eq!(view.triangles.len(), 48);
+        assert_eq!(view.element_count, 48);
+        // Closed surface: V - E + F = 2 with V = 26 boundary vertices.
+        assert_eq!(26 - view.edges.len() as i64 + 48, 2);
+        let x = mesh.rest_positions();
+        let centre = Vector3::repeat(0.5);
+        for (t, &e) in view.triangles.iter().zip(&view.triangle_element) {
+            let p = t.map(|i| x[i as usize]);
+            let normal = (p[1] - p[0]).cross(&(p[2] - p[0]));
+            let mid = (p[0] + p[1] + p[2]) / 3.0;
+            assert!(
+                normal.dot(&(mid - centre)) > 0.0,
+                "triangle {t:?} points inward"
+            );
+            // The owning tetrahedron holds all three vertices.
+            let simplex = mesh.simplex(e as usize);
+            assert!(
+                t.iter().all(|&v| simplex.contains(&(v as usize))),
+                "{t:?} not in element {e}"
+            );
+        }
+    }
+
+    #[test]
+    fn frame_from_2d_positions_pads_z() {
+        let frame = RenderFrame::from_positions(&[Vector2::new(1.5, -2.0)], &[0.25]);
+        assert_eq!(frame.positions, vec![[1.5, -2.0, 0.0]]);
+        assert_eq!(frame.element_values, vec![0.25]);
+    }
+}
