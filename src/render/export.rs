@@ -61,8 +61,14 @@ pub fn frame_file_name(index: usize, frame_count: usize) -> String {
     format!("frame_{index:0digits$}.png")
 }
 
-/// Encodes an opaque RGBA image as an RGB PNG (fast compression, sRGB
-/// chunk) under a temporary name, then renames it to `path`.
+/// Writes an opaque RGBA image as an RGB PNG with fast compression and an
+/// sRGB chunk, as the frames of a run are written: under a hidden temporary
+/// name first, renamed to `path` once complete.
+pub fn write_png(path: &Path, image: &RgbaImage) -> Result<(), RenderError> {
+    write_png_atomically(path, image, &mut Vec::new())
+}
+
+/// [`write_png`] with a reusable RGB buffer.
 pub(crate) fn write_png_atomically(
     path: &Path,
     image: &RgbaImage,

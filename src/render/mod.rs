@@ -24,9 +24,9 @@ mod renderer;
 mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
-pub use export::{check_video_support, frame_file_name};
+pub use export::{check_video_support, frame_file_name, write_png};
 pub use gpu::adapter_description;
-pub use renderer::Renderer;
+pub use renderer::{FrameTimings, Renderer};
 
 use std::path::PathBuf;
 

@@ -3,9 +3,12 @@
 //!
 //! One frame reads as one straight line: fill the vertex and uniform
 //! buffers, encode the pass (background, ground, surface, edges) into a 4x
-//! MSAA target resolved to `Rgba8UnormSrgb`, copy the resolved texture to a
-//! buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, map it, wait,
-//! strip the padding, then draw the legend on the CPU.
+//! MSAA target resolved to `Rgba8UnormSrgb`, submit and wait; copy the
+//! resolved texture to a buffer with rows padded to
+//! `COPY_BYTES_PER_ROW_ALIGNMENT`, map it, wait, strip the padding; then draw
+//! the legend on the CPU. (Two submissions instead of one cost next to
+//! nothing and let [`Renderer::render_timed`] time drawing and readback
+//! apart.)
 //!
 //! Colours are computed on the CPU (viridis in sRGB, converted to linear);
 //! shaders work in linear light and the sRGB target encodes on write, so an
@@ -20,6 +23,7 @@ use bytemuck::{Pod, Zeroable};
 use image::RgbaImage;
 use nalgebra::{Vector3, Vector4};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -65,6 +69,17 @@ struct LineInstance {
     end: [f32; 3],
     colour: [f32; 4],
     width: f32,
+}
+
+/// How long the stages of one [`Renderer::render_timed`] call took.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameTimings {
+    /// Building and uploading vertices, encoding and drawing, until the GPU is done.
+    pub draw: Duration,
+    /// Copying the image to a buffer, mapping it and stripping the row padding.
+    pub readback: Duration,
+    /// Drawing the legend on the CPU.
+    pub overlay: Duration,
 }
 
 /// Draws frames of one mesh with fixed settings, camera and colour range.
@@ -212,6 +227,15 @@ impl Renderer {
 
     /// Draws one frame.
     pub fn render(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
+        self.render_timed(frame).map(|(image, _)| image)
+    }
+
+    /// Draws one frame and says how long each stage took (for benchmarks).
+    pub fn render_timed(
+        &mut self,
+        frame: &RenderFrame,
+    ) -> Result<(RgbaImage, FrameTimings), RenderError> {
+        let start = Instant::now();
         self.check_frame(frame)?;
         self.fill_buffers(frame);
         let device = &self.gpu.device;
@@ -283,6 +307,16 @@ impl Renderer {
                 pass.draw(0..6, ground_lines..self.line_scratch.len() as u32);
             }
         }
+        queue.submit([encoder.finish()]);
+        check_scope(out_of_memory, "drawing a frame")?;
+        check_scope(validation, "drawing a frame")?;
+        wait(device, "drawing a frame")?;
+        let drawn = Instant::now();
+
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("readback encoder"),
+        });
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &r.resolved,
@@ -305,20 +339,14 @@ impl Renderer {
             },
         );
         queue.submit([encoder.finish()]);
-        check_scope(out_of_memory, "drawing a frame")?;
-        check_scope(validation, "drawing a frame")?;
+        check_scope(validation, "copying a frame")?;
 
         let (sender, receiver) = std::sync::mpsc::channel();
         r.readback
             .map_async(wgpu::MapMode::Read, .., move |result| {
                 let _ = sender.send(result);
             });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| RenderError::Gpu {
-                during: "waiting for a frame",
-                message: e.to_string(),
-            })?;
+        wait(device, "reading a frame back")?;
         receiver
             .recv()
             .map_err(|_| RenderError::Gpu {
@@ -349,10 +377,16 @@ impl Renderer {
         r.readback.unmap();
         let mut image = RgbaImage::from_raw(width, height, pixels)
             .expect("the readback holds width x height pixels");
+        let read = Instant::now();
         if let Some(legend) = &self.legend {
             legend.draw(&mut image);
         }
-        Ok(image)
+        let timings = FrameTimings {
+            draw: drawn - start,
+            readback: read - drawn,
+            overlay: read.elapsed(),
+        };
+        Ok((image, timings))
     }
 
     fn check_frame(&self, frame: &RenderFrame) -> Result<(), RenderError> {
@@ -706,6 +740,17 @@ fn median_edge_pixels(
     }
     let middle = lengths.len() / 2;
     *lengths.select_nth_unstable_by(middle, f32::total_cmp).1
+}
+
+/// Blocks until the GPU has finished all submitted work.
+fn wait(device: &wgpu::Device, during: &'static str) -> Result<(), RenderError> {
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map(|_| ())
+        .map_err(|e| RenderError::Gpu {
+            during,
+            message: e.to_string(),
+        })
 }
 
 fn check_scope(scope: wgpu::ErrorScopeGuard, during: &'static str) -> Result<(), RenderError> {
