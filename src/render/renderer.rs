@@ -646,7 +646,7 @@ fn base_globals(
             light: [light.x, light.y, light.z, 1.0],
             // Edges are pulled 0.15% of their distance towards the eye.
             viewport: [width, height, pixel_scale, 0.0015],
-            ground: [ground, nice_tile(size), 1.5 * reach, 6.0 * reach],
+            ground: [ground, nice_tile(size), reach, 4.0 * reach],
             ground_center: [view.target.x, view.target.z, 12.0 * reach, 0.0],
             shadow,
             shadow_params,
@@ -671,17 +671,17 @@ fn nice_tile(body_radius: f32) -> f32 {
 }
 
 /// The soft contact shadow under a body with these bounds: centre and radii
-/// on the ground, then strength and softness. It fades and blurs as the body
-/// rises, and vanishes at three body sizes above the ground.
+/// on the ground, then strength and softness. It fades, widens and blurs as
+/// the body rises, so its height above the ground reads at a glance.
 fn contact_shadow(bounds: &Bounds, ground: f32) -> ([f32; 4], [f32; 4]) {
     let half = (bounds.max - bounds.min) * 0.5;
     let centre = bounds.center();
     let size = half.x.max(half.z).max(1e-6);
     let height = (bounds.min.y - ground).max(0.0);
     let rise = height / size;
-    let strength = 0.42 * (1.0 - rise / 3.0).clamp(0.0, 1.0);
-    let softness = (0.18 + 0.3 * rise).min(0.9);
-    let grow = 1.0 + 0.12 + 0.25 * rise;
+    let strength = 0.42 / (1.0 + 0.5 * rise);
+    let softness = (0.18 + 0.25 * rise).min(0.95);
+    let grow = 1.12 + 0.1 * rise;
     (
         [
             centre.x,
@@ -1076,8 +1076,9 @@ mod tests {
         };
         let (_, resting) = contact_shadow(&at(0.0), 0.0);
         let (_, hovering) = contact_shadow(&at(1.0), 0.0);
-        let (_, far) = contact_shadow(&at(10.0), 0.0);
-        assert!(resting[0] > hovering[0] && hovering[0] > 0.0 && far[0] == 0.0);
+        let (_, far) = contact_shadow(&at(40.0), 0.0);
+        assert!(resting[0] > hovering[0] && hovering[0] > far[0] && far[0] > 0.0);
+        assert!(far[0] < 0.1 * resting[0], "{far:?}");
         assert!(hovering[1] > resting[1]);
     }
 
