@@ -92,8 +92,8 @@ impl Bounds {
 pub(crate) struct View {
     /// World to wgpu clip space.
     pub view_proj: Matrix4<f32>,
-    /// Eye position with w = 1 (perspective), or the unit direction towards
-    /// the viewer with w = 0 (orthographic).
+    /// Eye position with w = 1 (perspective), or with w = 0 (orthographic)
+    /// the direction towards the viewer, as long as the visible height.
     pub eye: [f32; 4],
     /// Distance from the eye to the point looked at, in scene units (the
     /// visible height for orthographic views).
@@ -155,7 +155,7 @@ pub(crate) fn resolve(camera: &Camera, framing: &Framing) -> Result<View, Render
             let view = look_at(&eye, &target);
             Ok(View {
                 view_proj: OPENGL_TO_WGPU * proj.to_homogeneous() * view,
-                eye: [0.0, 0.0, 1.0, 0.0],
+                eye: [0.0, 0.0, height, 0.0],
                 distance: height,
                 target: target.coords,
             })
@@ -237,7 +237,7 @@ fn auto_2d(framing: &Framing, aspect: f32) -> View {
     );
     View {
         view_proj: OPENGL_TO_WGPU * proj.to_homogeneous(),
-        eye: [0.0, 0.0, 1.0, 0.0],
+        eye: [0.0, 0.0, h, 0.0],
         distance: h,
         target: Vector3::new(c.x, c.y, 0.0),
     }
