@@ -31,8 +31,15 @@ struct Globals {
 
 @vertex
 fn vs_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
-    let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
-    return vec4<f32>(uv * 2.0 - 1.0, 1.0, 1.0);
+    // A screen-wide rectangle from one pixel above the ground row down to the
+    // bottom of the image: only pixels that can be ground are shaded.
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(-1.0, 0.0), vec2<f32>(1.0, 0.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(-1.0, 0.0), vec2<f32>(1.0, 1.0), vec2<f32>(-1.0, 1.0),
+    );
+    let c = corners[index];
+    let top = clamp(1.0 - 2.0 * (g.ground_center.w - 1.0) / g.viewport.y, -1.0, 1.0);
+    return vec4<f32>(c.x, mix(-1.0, top, c.y), 1.0, 1.0);
 }
 
 @fragment

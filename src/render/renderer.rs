@@ -283,11 +283,14 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &r.bind_group, &[]);
-            pass.set_pipeline(&r.background);
-            pass.draw(0..3, 0..1);
+            // A plain background is the clear colour already.
+            if self.globals.sky_top != self.globals.sky_bottom {
+                pass.set_pipeline(&r.background);
+                pass.draw(0..3, 0..1);
+            }
             if let Some(ground) = &r.ground {
                 pass.set_pipeline(ground);
-                pass.draw(0..if self.mesh.dimension == 2 { 3 } else { 6 }, 0..1);
+                pass.draw(0..6, 0..1);
             }
             // Instance 0 is the 2D ground line when there is one: behind the body.
             let ground_lines = u32::from(self.ground_line.is_some());
