@@ -30,12 +30,12 @@ pub enum AppError {
         source: SimError,
     },
     /// The requested video format is not available here (e.g. MP4 without ffmpeg).
-    #[error("--video {choice} is not available: {reason}")]
+    #[error("--video {choice} is not available")]
     Video {
         /// The flag value.
         choice: String,
         /// Why.
-        reason: String,
+        source: RenderError,
     },
     /// The output folder cannot be used or a file cannot be written.
     #[error(transparent)]

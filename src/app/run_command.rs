@@ -6,13 +6,13 @@
 
 use super::cli::{RunArgs, VideoChoice};
 use super::progress::{Progress, ProgressMode};
-use super::render_glue::{
-    mp4_available, render_frame, render_mesh, render_settings, video_file_name,
-};
+use super::render_glue::{render_settings, video_file_name};
 use super::{AppError, scene_overrides};
 use crate::math::{UP_AXIS, Vector};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
-use crate::render::{RenderFrame, RenderOutputs, VideoFormat, render_sequence};
+use crate::render::{
+    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support, render_sequence,
+};
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
 use crate::sim::{ElementField, FrameStats, PhaseTimes, Simulation};
 use std::path::PathBuf;
@@ -78,23 +78,23 @@ struct Plan {
     progress: ProgressMode,
 }
 
+/// The videos to write; a format this machine cannot write is an error
+/// before any work (`auto` only adds MP4 when it can be written).
 fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
-    Ok(match choice {
-        VideoChoice::Auto if mp4_available() => vec![VideoFormat::Apng, VideoFormat::Mp4],
+    let videos = match choice {
+        VideoChoice::Auto if check_video_support(&[VideoFormat::Mp4]).is_ok() => {
+            vec![VideoFormat::Apng, VideoFormat::Mp4]
+        }
         VideoChoice::Auto | VideoChoice::Apng => vec![VideoFormat::Apng],
         VideoChoice::None => Vec::new(),
         VideoChoice::Gif => vec![VideoFormat::Gif],
-        VideoChoice::Mp4 => {
-            if !mp4_available() {
-                return Err(AppError::Video {
-                    choice: "mp4".into(),
-                    reason: "ffmpeg with the libx264 encoder was not found on PATH (install ffmpeg, or use --video apng)"
-                        .into(),
-                });
-            }
-            vec![VideoFormat::Mp4]
-        }
-    })
+        VideoChoice::Mp4 => vec![VideoFormat::Mp4],
+    };
+    check_video_support(&videos).map_err(|source| AppError::Video {
+        choice: format!("{choice:?}").to_lowercase(),
+        source,
+    })?;
+    Ok(videos)
 }
 
 fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(), AppError> {
@@ -104,7 +104,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
         source,
     })?;
     let masses = mesh.lumped_masses(config.material.density);
-    let render_mesh = plan.render.then(|| render_mesh(&mesh));
+    let render_mesh = plan.render.then(|| RenderMesh::from_mesh(&mesh));
     let mut sim = Simulation::new(
         mesh,
         config.material.material,
@@ -164,7 +164,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
                 )?;
             }
             if plan.render {
-                render_frames.push(render_frame(sim.positions(), &values));
+                render_frames.push(RenderFrame::from_positions(sim.positions(), &values));
             }
         }
         progress.update(frame + 1, || {
