@@ -4,6 +4,13 @@ use clap::Parser;
 use elasto::app::{Cli, run};
 
 fn main() {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        // Mesa's Vulkan device-select layer (installed with lavapipe) prints a
+        // spurious "XDG_RUNTIME_DIR is invalid" error when adapters are listed
+        // on a headless machine; it selects nothing elasto needs.
+        // SAFETY: no other thread exists yet.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
     let cli = Cli::parse();
     if let Err(error) = run(cli) {
         let code = error.exit_code();
