@@ -52,7 +52,7 @@ const DROP_3D: GoldenScene = GoldenScene {
     ],
 };
 
-/// The cantilever 1.5 s after release, bending under its own weight.
+/// The hanging bar 1.5 s after release, stretched and swinging.
 const HANGING_BAR: GoldenScene = GoldenScene {
     name: "hanging-bar-2d",
     frames: 46,

@@ -28,7 +28,7 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     },
     BuiltinScene {
         name: "hanging-bar-2d",
-        description: "2D cantilever bar pinned at its left end, sagging under gravity",
+        description: "soft 2D bar pinned at its top end, hanging down, bouncing and swinging",
         toml: include_str!("../../scenes/hanging-bar-2d.toml"),
     },
     BuiltinScene {
