@@ -1,6 +1,7 @@
 //! The simulation against closed forms: free fall, rigid motions, the finite-volume
 //! force, and a bar hanging under its own weight.
 
+#[macro_use]
 mod support;
 
 use elasto::energy::{Elasticity, EnergyTerm};
@@ -12,19 +13,6 @@ use elasto::sim::{Effects, PinRegion, Simulation, SimulationSettings};
 use elasto::solver::SolverSettings;
 use std::sync::Arc;
 use support::*;
-
-macro_rules! both_dimensions {
-    ($($check:ident => $name2:ident, $name3:ident;)*) => {$(
-        #[test]
-        fn $name2() {
-            $check::<2>();
-        }
-        #[test]
-        fn $name3() {
-            $check::<3>();
-        }
-    )*};
-}
 
 both_dimensions! {
     free_fall_matches_the_discrete_closed_form => free_fall_2d, free_fall_3d;

@@ -3,6 +3,7 @@
 //! Each check is a generic function stamped out for both dimensions by
 //! `both_dimensions!`; the relative error bound is 1e-6 throughout.
 
+#[macro_use]
 mod support;
 
 use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
@@ -14,19 +15,6 @@ use std::sync::Arc;
 use support::*;
 
 const TOLERANCE: f64 = 1e-6;
-
-macro_rules! both_dimensions {
-    ($($check:ident => $name2:ident, $name3:ident;)*) => {$(
-        #[test]
-        fn $name2() {
-            $check::<2>();
-        }
-        #[test]
-        fn $name3() {
-            $check::<3>();
-        }
-    )*};
-}
 
 both_dimensions! {
     stress_is_the_energy_derivative => stress_is_the_energy_derivative_2d, stress_is_the_energy_derivative_3d;

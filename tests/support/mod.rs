@@ -1,5 +1,19 @@
 //! Shared helpers for the simulation-core tests.
-#![allow(dead_code)]
+#![allow(dead_code, unused_macros)]
+
+/// Stamps out a 2D and a 3D `#[test]` from one generic check `fn check<const D: usize>()`.
+macro_rules! both_dimensions {
+    ($($check:ident => $name2:ident, $name3:ident;)*) => {$(
+        #[test]
+        fn $name2() {
+            $check::<2>();
+        }
+        #[test]
+        fn $name3() {
+            $check::<3>();
+        }
+    )*};
+}
 
 use elasto::material::{LameParameters, Material, NeoHookean, StVenantKirchhoff, YoungPoisson};
 use elasto::math::{Matrix, Vector};
