@@ -21,8 +21,8 @@
 //! zero). Finite volumes on linear simplices *are* linear finite elements.
 
 use crate::material::HyperelasticMaterial;
-use crate::math::{Matrix, Vector, determinant};
-use crate::mesh::Mesh;
+use crate::math::{Vector, determinant};
+use crate::mesh::{Mesh, edge_matrix};
 
 /// The outward area-weighted normal `n A` (rest configuration) of the face of
 /// `simplex` opposite to its local vertex `opposite`.
@@ -36,8 +36,7 @@ pub fn face_area_normal<const D: usize>(
     simplex: &[usize],
     opposite: usize,
 ) -> Vector<D> {
-    let origin = rest[simplex[0]];
-    let dm = Matrix::<D>::from_fn(|row, col| rest[simplex[col + 1]][row] - origin[row]);
+    let dm = edge_matrix(rest, simplex);
     let det = determinant(&dm);
     let dm_inv_t = crate::math::inverse(&dm)
         .expect("non-degenerate rest element")

@@ -131,14 +131,15 @@ impl<const D: usize> Elasticity<D> {
         out
     }
 
-    /// The element Hessian of element `e`, projected to PSD, scaled.
-    fn element_hessian<M: HyperelasticMaterial<D>>(
+    /// The exact element Hessian of element `e` (scaled by `scale`) and the
+    /// stress derivative it was built from.
+    fn exact_element_hessian<M: HyperelasticMaterial<D>>(
         &self,
         material: &M,
         e: usize,
         x: &[Vector<D>],
         scale: f64,
-    ) -> DenseMatrix {
+    ) -> (DenseMatrix, crate::math::StressDerivative<D>) {
         let size = D * (D + 1);
         let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
         let dp = material.first_piola_derivative(&self.mesh.deformation_gradient(e, x));
@@ -158,6 +159,18 @@ impl<const D: usize> Elasticity<D> {
                 }
             }
         }
+        (h, dp)
+    }
+
+    /// The element Hessian of element `e`, projected to PSD, scaled.
+    fn element_hessian<M: HyperelasticMaterial<D>>(
+        &self,
+        material: &M,
+        e: usize,
+        x: &[Vector<D>],
+        scale: f64,
+    ) -> DenseMatrix {
+        let (mut h, dp) = self.exact_element_hessian(material, e, x, scale);
         if !is_positive_definite(&dp) {
             project_to_psd(&mut h);
         }
@@ -166,20 +179,7 @@ impl<const D: usize> Elasticity<D> {
 
     /// The element Hessian of element `e` before projection (for tests and analysis).
     pub fn unprojected_element_hessian(&self, e: usize, x: &[Vector<D>]) -> DenseMatrix {
-        let size = D * (D + 1);
-        let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
-        let dp = with_material!(&self.material, m => HyperelasticMaterial::<D>::first_piola_derivative(m, &self.mesh.deformation_gradient(e, x)));
-        DenseMatrix::from_fn(size, size, |row, col| {
-            let (a, k, b, l) = (row / D, row % D, col / D, col % D);
-            let (ga, gb) = (shape_gradient(&dm_inv, a), shape_gradient(&dm_inv, b));
-            let mut sum = 0.0;
-            for j in 0..D {
-                for n in 0..D {
-                    sum += dp[l][n][(k, j)] * ga[j] * gb[n];
-                }
-            }
-            volume * sum
-        })
+        with_material!(&self.material, m => self.exact_element_hessian(m, e, x, 1.0).0)
     }
 
     /// Minimum volume ratio `J = det F` over all elements.
@@ -280,13 +280,11 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
         if !forbids {
             return 1.0;
         }
-        let caps: Vec<f64> = self
-            .mesh
-            .simplices()
-            .collect::<Vec<_>>()
-            .par_iter()
+        let caps: Vec<f64> = (0..self.mesh.element_count())
+            .into_par_iter()
             .with_min_len(ELEMENTS_PER_TASK)
-            .map(|simplex| {
+            .map(|e| {
+                let simplex = self.mesh.simplex(e);
                 let ds = edge_matrix(x, simplex);
                 let dds = edge_matrix(dx, simplex);
                 let volume = Polynomial::interpolate(D, |t| determinant(&(ds + dds * t)));
