@@ -73,3 +73,53 @@ fn mp4_without_ffmpeg_is_refused_before_any_work() {
     assert!(tmp.path().join("a/video.png").exists());
     assert!(!tmp.path().join("a/video.mp4").exists());
 }
+
+/// With a fixed camera and colour range, `run` renders while it simulates
+/// (one "simulate+render" phase); with the automatic ones it renders after
+/// (a separate "render" phase). Both write every frame and the video.
+#[test]
+fn a_fixed_camera_and_range_render_while_simulating() {
+    let tmp = tempfile::tempdir().unwrap();
+    let common = [
+        "run",
+        "--frames",
+        "3",
+        "--resolution",
+        "96x64",
+        "--video",
+        "apng",
+    ];
+    let fixed = [
+        "--set",
+        "render.camera.center=[0.5, 9.0]",
+        "--set",
+        "render.camera.height=6.0",
+        "--set",
+        "render.range=[0.0, 0.5]",
+    ];
+    let streamed = elasto(
+        tmp.path(),
+        &[&common[..], &fixed[..], &["--out", "streamed"]].concat(),
+    );
+    assert_code(&streamed, 0);
+    let log = stderr(&streamed);
+    assert!(log.contains("simulate+render: 3/3 frames"), "{log}");
+    assert!(
+        !log.contains("\nrender:") && !log.starts_with("render:"),
+        "{log}"
+    );
+
+    let deferred = elasto(tmp.path(), &[&common[..], &["--out", "deferred"]].concat());
+    assert_code(&deferred, 0);
+    let log = stderr(&deferred);
+    assert!(log.contains("simulate: 3/3 frames"), "{log}");
+    assert!(log.contains("render: 3/3 frames"), "{log}");
+
+    for run in ["streamed", "deferred"] {
+        for i in 0..3 {
+            let frame = tmp.path().join(format!("{run}/frames/frame_{i:04}.png"));
+            assert!(image::open(&frame).is_ok(), "{}", frame.display());
+        }
+        assert!(tmp.path().join(run).join("video.png").exists(), "{run}");
+    }
+}

@@ -10,6 +10,7 @@ mod cli;
 mod compare_command;
 mod progress;
 mod render_glue;
+mod render_stage;
 mod run_command;
 mod scenes_command;
 

@@ -1,6 +1,6 @@
 //! From the scene's render settings to the renderer's.
 
-use crate::render::{Colouring, RenderSettings, VideoFormat};
+use crate::render::{Colouring, RenderSettings};
 use crate::scene::{FieldChoice, RenderConfig};
 
 /// The renderer's settings for a scene.
@@ -21,14 +21,5 @@ pub fn render_settings(config: &RenderConfig, ground_height: Option<f64>) -> Ren
         ground_height: ground_height.map(|h| h as f32),
         draw_edges: config.edges,
         draw_legend: config.legend,
-    }
-}
-
-/// The file name a video format is written to.
-pub fn video_file_name(format: VideoFormat) -> &'static str {
-    match format {
-        VideoFormat::Apng => "video.png",
-        VideoFormat::Mp4 => "video.mp4",
-        VideoFormat::Gif => "video.gif",
     }
 }

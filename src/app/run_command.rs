@@ -3,15 +3,21 @@
 //! Frame `i` of a run is the state at time `i / fps`, for `i = 0 .. frames - 1`;
 //! frame 0 is the initial state, so a run simulates `(frames - 1) * substeps`
 //! steps and its video lasts `frames / fps` seconds.
+//!
+//! Data outputs are written as each frame is simulated. Images are too when
+//! the scene fixes the camera and the colour range; otherwise they are
+//! rendered after the simulation (see [`RenderStage`]).
 
 use super::cli::{RunArgs, VideoChoice};
 use super::progress::{Progress, ProgressMode};
-use super::render_glue::{render_settings, video_file_name};
+use super::render_glue::render_settings;
+use super::render_stage::RenderStage;
 use super::{AppError, scene_overrides};
 use crate::math::{UP_AXIS, Vector};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
-    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support, render_sequence,
+    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, adapter_description, check_video_support,
+    video_file_name,
 };
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
 use crate::sim::{ElementField, FrameStats, PhaseTimes, Simulation};
@@ -117,6 +123,10 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
         scene: name.clone(),
         source,
     })?;
+    if plan.render {
+        // No graphics adapter: fail now, not after the simulation.
+        adapter_description().map_err(AppError::Render)?;
+    }
 
     // 2. The output folder: refused (untouched) when it holds anything, unless --force.
     let out = OutputDir::check(&plan.out, plan.force)?;
@@ -128,18 +138,33 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
     } else {
         None
     };
+    let frames = config.time.frames;
+    let mut render = render_mesh.map(|render_mesh| {
+        let settings = render_settings(&config.render, config.effects.ground.map(|g| g.height));
+        let outputs = RenderOutputs {
+            frames_dir: out.join("frames"),
+            video_dir: out.path().to_owned(),
+            videos: plan.videos.clone(),
+            fps: config.time.fps,
+        };
+        RenderStage::new(settings, render_mesh, outputs, frames)
+    });
 
-    // 3. Simulate frame by frame, streaming the data outputs.
+    // 3. Simulate frame by frame, streaming the data outputs (and the images
+    //    when the renderer can take them now).
     let field = config.render.field.element_field();
     let field_name = match field {
         ElementField::EnergyDensity => "energy_density",
         ElementField::VonMises => "von_mises",
         ElementField::VolumeRatio => "volume_ratio",
     };
-    let frames = config.time.frames;
-    let mut render_frames: Vec<RenderFrame> =
-        Vec::with_capacity(if plan.render { frames } else { 0 });
-    let mut progress = Progress::start(plan.progress, "simulate", frames);
+    let streaming = render.as_ref().is_some_and(RenderStage::is_streaming);
+    let label = if streaming {
+        "simulate+render"
+    } else {
+        "simulate"
+    };
+    let mut progress = Progress::start(plan.progress, label, frames);
     for frame in 0..frames {
         let frame_stats = if frame == 0 {
             initial_stats(&sim, &masses, config)
@@ -152,7 +177,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
                 })?
         };
         stats.write_frame(frame, &frame_stats)?;
-        if meshes.is_some() || plan.render {
+        if meshes.is_some() || render.is_some() {
             let values = sim.element_field(field);
             if let Some(writer) = &mut meshes {
                 writer.write_frame(
@@ -163,8 +188,10 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
                     &[(field_name, &values)],
                 )?;
             }
-            if plan.render {
-                render_frames.push(RenderFrame::from_positions(sim.positions(), &values));
+            if let Some(render) = &mut render {
+                render
+                    .add(RenderFrame::from_positions(sim.positions(), &values))
+                    .map_err(AppError::Render)?;
             }
         }
         progress.update(frame + 1, || {
@@ -176,25 +203,9 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
     }
     progress.finish();
 
-    // 4. Render the frames and the video.
-    if let Some(render_mesh) = render_mesh {
-        let settings = render_settings(&config.render, config.effects.ground.map(|g| g.height));
-        let outputs = RenderOutputs {
-            frames_dir: out.join("frames"),
-            video_dir: out.path().to_owned(),
-            videos: plan.videos.clone(),
-            fps: config.time.fps,
-        };
-        let mut progress = Progress::start(plan.progress, "render", frames);
-        render_sequence(
-            &settings,
-            &render_mesh,
-            &render_frames,
-            &outputs,
-            &mut |i| progress.update(i + 1, || format!("frame_{i:04}.png")),
-        )
-        .map_err(AppError::Render)?;
-        progress.finish();
+    // 4. Complete the frames and the videos.
+    if let Some(render) = render {
+        render.finish(plan.progress).map_err(AppError::Render)?;
     }
 
     if plan.progress != ProgressMode::Quiet {

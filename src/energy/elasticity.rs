@@ -273,7 +273,7 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
 
     /// For a material that forbids inversion, the first `t` where some
     /// `det(D_s + t dD_s)` (a polynomial of degree `D` in `t`) reaches zero,
-    /// times [`INVERSION_STEP_FRACTION`]; otherwise 1.
+    /// times `INVERSION_STEP_FRACTION` (0.9); otherwise 1.
     fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         let forbids =
             with_material!(&self.material, m => HyperelasticMaterial::<D>::forbids_inversion(m));

@@ -143,7 +143,7 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
 
     /// Continuous collision check against the plane: a vertex moving down by
     /// `dx` reaches it at `t = d / -dx_up`; the step may close at most
-    /// [`CONTACT_STEP_FRACTION`] of any gap.
+    /// `CONTACT_STEP_FRACTION` (0.9) of any gap.
     fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         x.iter()
             .zip(dx)

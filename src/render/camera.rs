@@ -14,6 +14,9 @@
 //!   box fall inside the view with a margin. Since the box holds the body in
 //!   every frame, the body never leaves the picture.
 //!
+//! - Fixed cameras (from the scene) take their depth range from the first
+//!   frame alone, so a run with one can be drawn while it is simulated.
+//!
 //! When a legend reserves a column on the right, automatic cameras frame the
 //! remaining area: the projection is computed for that area's aspect ratio and
 //! then squeezed into its part of the image.
@@ -106,7 +109,7 @@ pub(crate) struct View {
 pub(crate) struct Framing {
     /// 2 or 3.
     pub dimension: usize,
-    /// Bounds of all frames.
+    /// Bounds of all frames (automatic camera) or of the first (fixed camera).
     pub bounds: Bounds,
     /// Ground height, if drawn.
     pub ground: Option<f32>,

@@ -1,28 +1,13 @@
-//! Writing a run: numbered PNG frames and videos.
-//!
-//! The calling thread renders frame after frame and hands each image to:
-//! - PNG workers, through a bounded queue (so memory stays flat however long
-//!   the run), which encode with fast compression and write each frame under
-//!   a hidden temporary name, renamed once complete;
-//! - one thread per video format, through its own bounded queue, in frame
-//!   order.
-//!
-//! Progress is reported on the calling thread, in frame order, as frames are
-//! written. The first error stops the run; videos are renamed to their final
-//! names only when every frame and every video succeeded.
+//! Output files of a run: frame names, PNG frames written atomically, and the
+//! check that the requested videos can be written.
 
-use super::colormap::linear_to_srgb8;
-use super::video::{self, VideoSpec, VideoWriter, rgba_to_rgb, temporary_path};
-use super::{
-    RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer, VideoFormat,
-};
-use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
+use super::video::{rgba_to_rgb, temporary_path};
+use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::fs::File;
 use std::io::BufWriter;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
-use std::sync::Arc;
 
 /// Checks, before any simulation, that the requested videos can be written:
 /// MP4 needs `ffmpeg` with libx264 on `PATH`. APNG and GIF always can.
@@ -114,200 +99,6 @@ pub(crate) fn write_png_atomically(
     result
 }
 
-struct Video {
-    format: VideoFormat,
-    path: PathBuf,
-}
-
-pub(crate) fn render_sequence(
-    settings: &RenderSettings,
-    mesh: &RenderMesh,
-    frames: &[RenderFrame],
-    outputs: &RenderOutputs,
-    progress: &mut dyn FnMut(usize),
-) -> Result<(), RenderError> {
-    check_video_support(&outputs.videos)?;
-    let fps_valid = outputs.fps > 0.0 && outputs.fps.is_finite();
-    if !outputs.videos.is_empty() && !fps_valid {
-        return Err(RenderError::InvalidInput(format!(
-            "video frame rate {} must be positive",
-            outputs.fps
-        )));
-    }
-    let mut renderer = Renderer::new(settings, mesh, frames)?;
-    create_dir(&outputs.frames_dir)?;
-    if !outputs.videos.is_empty() {
-        create_dir(&outputs.video_dir)?;
-    }
-
-    let mut videos: Vec<Video> = Vec::new();
-    for &format in &outputs.videos {
-        if !videos.iter().any(|v| v.format == format) {
-            videos.push(Video {
-                format,
-                path: outputs.video_dir.join(video::file_name(format)),
-            });
-        }
-    }
-    let result = render_and_write(&mut renderer, settings, frames, outputs, &videos, progress);
-    for video in &videos {
-        let temporary = temporary_path(&video.path);
-        if result.is_ok() {
-            std::fs::rename(&temporary, &video.path).map_err(|source| RenderError::Io {
-                path: video.path.clone(),
-                source,
-            })?;
-        } else {
-            let _ = std::fs::remove_file(&temporary);
-        }
-    }
-    result
-}
-
-fn create_dir(dir: &Path) -> Result<(), RenderError> {
-    std::fs::create_dir_all(dir).map_err(|source| RenderError::Io {
-        path: dir.to_owned(),
-        source,
-    })
-}
-
-fn render_and_write(
-    renderer: &mut Renderer,
-    settings: &RenderSettings,
-    frames: &[RenderFrame],
-    outputs: &RenderOutputs,
-    videos: &[Video],
-    progress: &mut dyn FnMut(usize),
-) -> Result<(), RenderError> {
-    let frame_count = frames.len();
-    let (width, height) = renderer.size();
-    let mut writers: Vec<Box<dyn VideoWriter>> = Vec::with_capacity(videos.len());
-    for video in videos {
-        let spec = VideoSpec {
-            path: &video.path,
-            width,
-            height,
-            frame_count,
-            fps: outputs.fps,
-            background: linear_to_srgb8(settings.background),
-        };
-        writers.push(video::open(video.format, &spec)?);
-    }
-    let workers = std::thread::available_parallelism()
-        .map_or(2, |n| n.get())
-        .clamp(1, 4);
-
-    std::thread::scope(|scope| {
-        let (frame_sender, frame_receiver) = bounded::<(usize, Arc<RgbaImage>)>(2 * workers);
-        let (done_sender, done_receiver) = unbounded::<Result<usize, RenderError>>();
-        for _ in 0..workers {
-            let (frames_in, done) = (frame_receiver.clone(), done_sender.clone());
-            let dir = &outputs.frames_dir;
-            scope.spawn(move || png_worker(dir, frame_count, frames_in, done));
-        }
-        drop((frame_receiver, done_sender));
-
-        let mut video_senders: Vec<Sender<Arc<RgbaImage>>> = Vec::new();
-        let mut video_threads = Vec::new();
-        for mut writer in writers {
-            let (sender, receiver) = bounded::<Arc<RgbaImage>>(3);
-            video_senders.push(sender);
-            video_threads.push(scope.spawn(move || -> Result<(), RenderError> {
-                for image in receiver {
-                    writer.push(&image)?;
-                }
-                writer.finish()
-            }));
-        }
-
-        let mut reporter = Reporter {
-            written: vec![false; frame_count],
-            next: 0,
-            progress,
-        };
-        let mut first_error: Option<RenderError> = None;
-        'frames: for (index, frame) in frames.iter().enumerate() {
-            let image = match renderer.render(frame) {
-                Ok(image) => Arc::new(image),
-                Err(error) => {
-                    first_error = Some(error);
-                    break;
-                }
-            };
-            for sender in &video_senders {
-                if sender.send(image.clone()).is_err() {
-                    // That video's thread stopped; its error comes from join.
-                    break 'frames;
-                }
-            }
-            if frame_sender.send((index, image)).is_err() {
-                break;
-            }
-            while let Ok(done) = done_receiver.try_recv() {
-                if let Err(error) = reporter.record(done) {
-                    first_error = Some(error);
-                    break 'frames;
-                }
-            }
-        }
-        drop(frame_sender);
-        drop(video_senders);
-        for done in done_receiver.iter() {
-            if let Err(error) = reporter.record(done) {
-                first_error.get_or_insert(error);
-            }
-        }
-        for thread in video_threads {
-            if let Err(error) = thread
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-            {
-                first_error.get_or_insert(error);
-            }
-        }
-        match first_error {
-            Some(error) => Err(error),
-            None => Ok(()),
-        }
-    })
-}
-
-fn png_worker(
-    dir: &Path,
-    frame_count: usize,
-    frames: Receiver<(usize, Arc<RgbaImage>)>,
-    done: Sender<Result<usize, RenderError>>,
-) {
-    let mut rgb = Vec::new();
-    for (index, image) in frames {
-        let path = dir.join(frame_file_name(index, frame_count));
-        let result = write_png_atomically(&path, &image, &mut rgb).map(|()| index);
-        let failed = result.is_err();
-        let _ = done.send(result);
-        if failed {
-            break;
-        }
-    }
-}
-
-/// Calls `progress` in frame order as frames complete in any order.
-struct Reporter<'a> {
-    written: Vec<bool>,
-    next: usize,
-    progress: &'a mut dyn FnMut(usize),
-}
-
-impl Reporter<'_> {
-    fn record(&mut self, done: Result<usize, RenderError>) -> Result<(), RenderError> {
-        self.written[done?] = true;
-        while self.next < self.written.len() && self.written[self.next] {
-            (self.progress)(self.next);
-            self.next += 1;
-        }
-        Ok(())
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -319,21 +110,6 @@ mod tests {
         assert_eq!(frame_file_name(9999, 10000), "frame_9999.png");
         assert_eq!(frame_file_name(7, 10001), "frame_00007.png");
         assert_eq!(frame_file_name(123456, 200000), "frame_123456.png");
-    }
-
-    #[test]
-    fn reporter_reports_in_order() {
-        let mut seen = Vec::new();
-        let mut callback = |i: usize| seen.push(i);
-        let mut reporter = Reporter {
-            written: vec![false; 4],
-            next: 0,
-            progress: &mut callback,
-        };
-        for i in [2, 0, 3, 1] {
-            reporter.record(Ok(i)).unwrap();
-        }
-        assert_eq!(seen, [0, 1, 2, 3]);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! The renderer draws what it is given: vertex positions and one scalar per
 //! element, never materials or physics. A run goes
 //! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one RGBA8 image per frame)
-//! → [`render_sequence`] (numbered PNG frames, APNG / MP4 / GIF video).
+//! → [`SequenceWriter`] (numbered PNG frames, APNG / MP4 / GIF video).
 //!
 //! The GPU is whatever wgpu finds: a hardware adapter when present, otherwise
 //! a software one (on a GPU-less Linux machine, the GL backend over Mesa
@@ -13,6 +13,10 @@
 //! Colours: element scalars go through [`viridis`] over one range for the
 //! whole run (automatic: min/max over all frames), so colours never flicker;
 //! the automatic camera frames the bounds of all frames, so it never jumps.
+//! Either needs the whole run before the first frame is drawn
+//! ([`RenderSettings::needs_whole_run`]); with a fixed camera and a fixed
+//! range (or flat colour) frames are rendered and written as they are
+//! simulated.
 
 mod camera;
 mod colormap;
@@ -21,12 +25,15 @@ mod gpu;
 mod legend;
 mod mesh_view;
 mod renderer;
+mod sequence;
 mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
 pub use export::{check_video_support, frame_file_name, write_png};
 pub use gpu::adapter_description;
 pub use renderer::{FrameTimings, Renderer};
+pub use sequence::{SequenceWriter, render_sequence};
+pub use video::file_name as video_file_name;
 
 use std::path::PathBuf;
 
@@ -113,6 +120,17 @@ pub struct RenderSettings {
     pub draw_edges: bool,
     /// Draw the colour-bar legend with scalar colouring (default: true).
     pub draw_legend: bool,
+}
+
+impl RenderSettings {
+    /// Whether drawing the first frame needs every frame of the run: the
+    /// automatic camera frames the bounds of all of them, the automatic
+    /// colour range spans all of their values. With a fixed camera and a
+    /// fixed range (or a flat colour) frames can be drawn as they come.
+    pub fn needs_whole_run(&self) -> bool {
+        let auto_range = matches!(self.colouring, Colouring::Scalar { range: None, .. });
+        self.camera == Camera::Auto || auto_range
+    }
 }
 
 impl Default for RenderSettings {
@@ -232,21 +250,4 @@ pub enum RenderError {
         /// ffmpeg's exit status and error output.
         message: String,
     },
-}
-
-/// Renders every frame, writes PNG frames and the video. Calls `progress(i)`
-/// after frame `i` is written.
-///
-/// Frames go to `frames_dir/frame_0000.png`, `frame_0001.png`, ... (more
-/// digits past 10000 frames); videos to `video_dir/video.{png,mp4,gif}`. Every
-/// file appears under its final name only once complete. `progress` is
-/// called in frame order, on the calling thread.
-pub fn render_sequence(
-    settings: &RenderSettings,
-    mesh: &RenderMesh,
-    frames: &[RenderFrame],
-    outputs: &RenderOutputs,
-    progress: &mut dyn FnMut(usize),
-) -> Result<(), RenderError> {
-    export::render_sequence(settings, mesh, frames, outputs, progress)
 }

@@ -18,7 +18,7 @@ use super::camera::{self, Bounds, Framing, View};
 use super::colormap::{srgb_to_linear3, viridis};
 use super::gpu::{Gpu, shared_gpu};
 use super::legend::Legend;
-use super::{Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
+use super::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
 use bytemuck::{Pod, Zeroable};
 use image::RgbaImage;
 use nalgebra::{Vector3, Vector4};
@@ -119,9 +119,13 @@ struct Resources {
 }
 
 impl Renderer {
-    /// Prepares to draw `mesh`. `frames` are the whole run: the automatic
-    /// camera frames all of them and the automatic colour range spans all of
-    /// them, so neither changes from frame to frame.
+    /// Prepares to draw `mesh`. The automatic camera frames all of `frames`
+    /// and the automatic colour range spans all of them, so neither changes
+    /// from frame to frame: with either, `frames` must be the whole run
+    /// ([`RenderSettings::needs_whole_run`]). Everything else (a fixed
+    /// camera's depth range, the 3D ground's extent, edge fading) depends on
+    /// the first frame only, so a fixed-camera run draws the same images
+    /// whether it is given up front or frame by frame.
     pub fn new(
         settings: &RenderSettings,
         mesh: &RenderMesh,
@@ -147,8 +151,12 @@ impl Renderer {
             _ => None,
         };
 
+        let framed = match settings.camera {
+            Camera::Auto => frames,
+            _ => &frames[..1],
+        };
         let bounds =
-            Bounds::of_points(frames.iter().flat_map(|f| f.positions.iter())).ok_or_else(|| {
+            Bounds::of_points(framed.iter().flat_map(|f| f.positions.iter())).ok_or_else(|| {
                 RenderError::InvalidInput(
                     "no frame has a finite vertex position to frame the camera on".into(),
                 )

@@ -20,8 +20,8 @@ use std::io::{BufWriter, Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, Stdio};
 
-/// The final file name of a video format.
-pub(crate) fn file_name(format: VideoFormat) -> &'static str {
+/// The file name a video format is written to: `video.png`, `video.mp4`, `video.gif`.
+pub fn file_name(format: VideoFormat) -> &'static str {
     match format {
         VideoFormat::Apng => "video.png",
         VideoFormat::Mp4 => "video.mp4",

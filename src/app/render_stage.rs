@@ -1,0 +1,102 @@
+//! How the frames of a run reach the renderer.
+//!
+//! With a fixed camera and a fixed colour range (or a flat colour) each frame
+//! is rendered and handed to the PNG and video encoders as soon as it is
+//! simulated, so encoding overlaps with the simulation and nothing piles up.
+//! The automatic camera and colour range need the whole motion first
+//! ([`RenderSettings::needs_whole_run`]); then frames are kept (positions and
+//! one value per element, no images) and rendered after the simulation.
+
+use super::progress::{Progress, ProgressMode};
+use crate::render::{
+    RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, SequenceWriter,
+    render_sequence,
+};
+
+/// The renderer's side of a run.
+pub struct RenderStage {
+    settings: RenderSettings,
+    mesh: RenderMesh,
+    outputs: RenderOutputs,
+    frame_count: usize,
+    pending: Pending,
+}
+
+enum Pending {
+    /// Frames are written as they come; the writer starts with frame 0.
+    Streaming(Option<Box<SequenceWriter>>),
+    /// Frames are kept until the run is complete.
+    Deferred(Vec<RenderFrame>),
+}
+
+impl RenderStage {
+    /// Prepares to render a run of `frame_count` frames.
+    pub fn new(
+        settings: RenderSettings,
+        mesh: RenderMesh,
+        outputs: RenderOutputs,
+        frame_count: usize,
+    ) -> Self {
+        let pending = if settings.needs_whole_run() {
+            Pending::Deferred(Vec::with_capacity(frame_count))
+        } else {
+            Pending::Streaming(None)
+        };
+        Self {
+            settings,
+            mesh,
+            outputs,
+            frame_count,
+            pending,
+        }
+    }
+
+    /// Whether frames are rendered while the run is simulated.
+    pub fn is_streaming(&self) -> bool {
+        matches!(self.pending, Pending::Streaming(_))
+    }
+
+    /// Takes the next frame of the run.
+    pub fn add(&mut self, frame: RenderFrame) -> Result<(), RenderError> {
+        match &mut self.pending {
+            Pending::Deferred(frames) => frames.push(frame),
+            Pending::Streaming(writer) => {
+                let writer = match writer {
+                    Some(writer) => writer,
+                    None => writer.insert(Box::new(SequenceWriter::create(
+                        &self.settings,
+                        &self.mesh,
+                        self.frame_count,
+                        std::slice::from_ref(&frame),
+                        &self.outputs,
+                    )?)),
+                };
+                writer.push(&frame)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Completes the frames and videos: waits for the encoders of a streamed
+    /// run, or renders a deferred one with its own progress.
+    pub fn finish(self, progress_mode: ProgressMode) -> Result<(), RenderError> {
+        match self.pending {
+            Pending::Streaming(Some(writer)) => writer.finish(),
+            Pending::Streaming(None) => Err(RenderError::InvalidInput(
+                "the run ended before its first frame".into(),
+            )),
+            Pending::Deferred(frames) => {
+                let mut progress = Progress::start(progress_mode, "render", frames.len());
+                render_sequence(
+                    &self.settings,
+                    &self.mesh,
+                    &frames,
+                    &self.outputs,
+                    &mut |i| progress.update(i + 1, || format!("frame_{i:04}.png")),
+                )?;
+                progress.finish();
+                Ok(())
+            }
+        }
+    }
+}

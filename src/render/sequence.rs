@@ -1,0 +1,390 @@
+//! Writing a run frame by frame: numbered PNG frames and videos.
+//!
+//! A [`SequenceWriter`] is fed one [`RenderFrame`] at a time, as the
+//! simulation produces them or from a finished run. The calling thread
+//! renders each frame and hands the image to:
+//! - PNG workers, through a bounded queue (so memory stays flat however long
+//!   the run), which encode with fast compression and write each frame under
+//!   a hidden temporary name, renamed once complete;
+//! - one thread per video format, through its own bounded queue, in frame
+//!   order.
+//!
+//! A full queue makes [`SequenceWriter::push`] wait, so neither rendering nor
+//! the simulation feeding it can run ahead of the encoders by more than a few
+//! frames. The first error stops the run; videos are renamed to their final
+//! names only by [`SequenceWriter::finish`] after every frame and every video
+//! succeeded. A writer dropped unfinished (the simulation failed) removes its
+//! partial videos; the frames already written stay, each one complete.
+
+use super::colormap::linear_to_srgb8;
+use super::export::{check_video_support, frame_file_name, write_png_atomically};
+use super::video::{self, VideoSpec, VideoWriter, temporary_path};
+use super::{
+    RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer, VideoFormat,
+};
+use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
+use image::RgbaImage;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+/// Renders frames one at a time and writes them as PNG files and videos.
+pub struct SequenceWriter {
+    renderer: Renderer,
+    frame_count: usize,
+    pushed: usize,
+    png_sender: Option<Sender<(usize, Arc<RgbaImage>)>>,
+    png_done: Receiver<Result<usize, RenderError>>,
+    png_workers: Vec<JoinHandle<()>>,
+    videos: Vec<VideoThread>,
+    /// Which frames are written, and how many from the start in a row.
+    written: Vec<bool>,
+    written_in_order: usize,
+    /// A frame or video failed: the run can no longer complete.
+    failed: bool,
+}
+
+struct VideoThread {
+    path: PathBuf,
+    sender: Option<Sender<Arc<RgbaImage>>>,
+    thread: Option<JoinHandle<Result<(), RenderError>>>,
+}
+
+impl SequenceWriter {
+    /// Starts writing a run of `frame_count` frames to `outputs`.
+    ///
+    /// `known_frames` frame the camera and the colour range (see
+    /// [`Renderer::new`]). When [`RenderSettings::needs_whole_run`] is true
+    /// they must be the whole run; otherwise the first frame is enough, and
+    /// the rest can be pushed as they are simulated.
+    pub fn create(
+        settings: &RenderSettings,
+        mesh: &RenderMesh,
+        frame_count: usize,
+        known_frames: &[RenderFrame],
+        outputs: &RenderOutputs,
+    ) -> Result<Self, RenderError> {
+        check_video_support(&outputs.videos)?;
+        let fps_valid = outputs.fps > 0.0 && outputs.fps.is_finite();
+        if !outputs.videos.is_empty() && !fps_valid {
+            return Err(RenderError::InvalidInput(format!(
+                "video frame rate {} must be positive",
+                outputs.fps
+            )));
+        }
+        if settings.needs_whole_run() && known_frames.len() != frame_count {
+            return Err(RenderError::InvalidInput(format!(
+                "the automatic camera or colour range needs all {frame_count} frames up front, \
+                 got {}",
+                known_frames.len()
+            )));
+        }
+        let renderer = Renderer::new(settings, mesh, known_frames)?;
+        create_dir(&outputs.frames_dir)?;
+        if !outputs.videos.is_empty() {
+            create_dir(&outputs.video_dir)?;
+        }
+
+        let (width, height) = renderer.size();
+        let mut videos: Vec<VideoThread> = Vec::new();
+        let mut formats: Vec<VideoFormat> = Vec::new();
+        for &format in &outputs.videos {
+            if formats.contains(&format) {
+                continue;
+            }
+            formats.push(format);
+            let path = outputs.video_dir.join(video::file_name(format));
+            let spec = VideoSpec {
+                path: &path,
+                width,
+                height,
+                frame_count,
+                fps: outputs.fps,
+                background: linear_to_srgb8(settings.background),
+            };
+            // A failure here drops the threads started so far, which removes their files.
+            let writer = video::open(format, &spec)?;
+            videos.push(VideoThread::spawn(path, writer));
+        }
+
+        let workers = std::thread::available_parallelism()
+            .map_or(2, |n| n.get())
+            .clamp(1, 4);
+        let (png_sender, png_receiver) = bounded::<(usize, Arc<RgbaImage>)>(2 * workers);
+        let (done_sender, png_done) = unbounded();
+        let png_workers = (0..workers)
+            .map(|_| {
+                let (frames, done) = (png_receiver.clone(), done_sender.clone());
+                let dir = outputs.frames_dir.clone();
+                std::thread::spawn(move || png_worker(&dir, frame_count, frames, done))
+            })
+            .collect();
+
+        Ok(Self {
+            renderer,
+            frame_count,
+            pushed: 0,
+            png_sender: Some(png_sender),
+            png_done,
+            png_workers,
+            videos,
+            written: vec![false; frame_count],
+            written_in_order: 0,
+            failed: false,
+        })
+    }
+
+    /// Renders the next frame and queues it for writing; waits while the
+    /// queues are full. Fails with the first error of any frame or video.
+    pub fn push(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
+        let result = self.render_and_queue(frame);
+        self.failed |= result.is_err();
+        result
+    }
+
+    fn render_and_queue(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
+        if self.failed {
+            return Err(RenderError::InvalidInput(
+                "an earlier frame failed; the run cannot continue".into(),
+            ));
+        }
+        if self.pushed == self.frame_count {
+            return Err(RenderError::InvalidInput(format!(
+                "the run has {} frames, cannot add another",
+                self.frame_count
+            )));
+        }
+        let image = Arc::new(self.renderer.render(frame)?);
+        for video in &self.videos {
+            let sent = video
+                .sender
+                .as_ref()
+                .is_some_and(|sender| sender.send(image.clone()).is_ok());
+            if !sent {
+                // That video's thread stopped on an error; finish reports it.
+                return Err(self.stop());
+            }
+        }
+        let sent = self
+            .png_sender
+            .as_ref()
+            .is_some_and(|sender| sender.send((self.pushed, image)).is_ok());
+        if !sent {
+            return Err(self.stop());
+        }
+        self.pushed += 1;
+        while let Ok(done) = self.png_done.try_recv() {
+            self.record(done)?;
+        }
+        Ok(())
+    }
+
+    /// How many frames, from frame 0 on without a gap, are written to disk.
+    pub fn frames_written(&self) -> usize {
+        self.written_in_order
+    }
+
+    /// Waits for every queued frame and video, then gives the videos their
+    /// final names. Fails if fewer frames were pushed than the run has.
+    pub fn finish(mut self) -> Result<(), RenderError> {
+        let mut first_error = None;
+        self.png_sender = None;
+        for done in self.png_done.clone().iter() {
+            if let Err(error) = self.record(done) {
+                first_error.get_or_insert(error);
+            }
+        }
+        join_all(std::mem::take(&mut self.png_workers));
+        for video in &mut self.videos {
+            if let Err(error) = video.join() {
+                first_error.get_or_insert(error);
+            }
+        }
+        if first_error.is_none() && self.failed {
+            first_error = Some(RenderError::InvalidInput(
+                "a frame failed earlier; the videos are incomplete".into(),
+            ));
+        }
+        if first_error.is_none() && self.pushed != self.frame_count {
+            first_error = Some(RenderError::InvalidInput(format!(
+                "the run has {} frames but only {} were rendered",
+                self.frame_count, self.pushed
+            )));
+        }
+        if let Some(error) = first_error {
+            return Err(error);
+        }
+        for video in std::mem::take(&mut self.videos) {
+            video.publish()?;
+        }
+        Ok(())
+    }
+
+    /// Marks frame `done` written, or keeps its error.
+    fn record(&mut self, done: Result<usize, RenderError>) -> Result<(), RenderError> {
+        match done {
+            Ok(index) => {
+                self.written[index] = true;
+                while self.written_in_order < self.frame_count
+                    && self.written[self.written_in_order]
+                {
+                    self.written_in_order += 1;
+                }
+                Ok(())
+            }
+            Err(error) => {
+                self.failed = true;
+                Err(error)
+            }
+        }
+    }
+
+    /// After a queue refused a frame: the error of whichever thread stopped.
+    fn stop(&mut self) -> RenderError {
+        self.failed = true;
+        self.png_sender = None;
+        for done in self.png_done.clone().iter() {
+            if let Err(error) = done {
+                return error;
+            }
+        }
+        for video in &mut self.videos {
+            if let Err(error) = video.join() {
+                return error;
+            }
+        }
+        RenderError::Gpu {
+            during: "writing frames",
+            message: "an output thread stopped without an error".into(),
+        }
+    }
+}
+
+impl Drop for SequenceWriter {
+    /// An unfinished run: let the workers drain, then remove partial videos.
+    fn drop(&mut self) {
+        self.png_sender = None;
+        for worker in std::mem::take(&mut self.png_workers) {
+            let _ = worker.join();
+        }
+        // Each video thread is joined, and its partial file removed, as it drops.
+    }
+}
+
+impl VideoThread {
+    fn spawn(path: PathBuf, mut writer: Box<dyn VideoWriter>) -> Self {
+        let (sender, receiver) = bounded::<Arc<RgbaImage>>(3);
+        let thread = std::thread::spawn(move || -> Result<(), RenderError> {
+            for image in receiver {
+                writer.push(&image)?;
+            }
+            writer.finish()
+        });
+        Self {
+            path,
+            sender: Some(sender),
+            thread: Some(thread),
+        }
+    }
+
+    /// Closes the queue and waits for the video; the first call returns its result.
+    fn join(&mut self) -> Result<(), RenderError> {
+        self.sender = None;
+        match self.thread.take() {
+            Some(thread) => thread
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+            None => Ok(()),
+        }
+    }
+
+    /// Renames the complete video to its final name.
+    fn publish(mut self) -> Result<(), RenderError> {
+        let temporary = temporary_path(&self.path);
+        let result = std::fs::rename(&temporary, &self.path).map_err(|source| RenderError::Io {
+            path: self.path.clone(),
+            source,
+        });
+        // Published (or failed to): nothing left for drop to remove.
+        self.path = PathBuf::new();
+        result
+    }
+}
+
+impl Drop for VideoThread {
+    /// A video not published is partial: wait for its thread, remove its file.
+    fn drop(&mut self) {
+        self.sender = None;
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
+        if !self.path.as_os_str().is_empty() {
+            let _ = std::fs::remove_file(temporary_path(&self.path));
+        }
+    }
+}
+
+fn join_all(threads: Vec<JoinHandle<()>>) {
+    for thread in threads {
+        if let Err(panic) = thread.join() {
+            std::panic::resume_unwind(panic);
+        }
+    }
+}
+
+fn create_dir(dir: &Path) -> Result<(), RenderError> {
+    std::fs::create_dir_all(dir).map_err(|source| RenderError::Io {
+        path: dir.to_owned(),
+        source,
+    })
+}
+
+fn png_worker(
+    dir: &Path,
+    frame_count: usize,
+    frames: Receiver<(usize, Arc<RgbaImage>)>,
+    done: Sender<Result<usize, RenderError>>,
+) {
+    let mut rgb = Vec::new();
+    for (index, image) in frames {
+        let path = dir.join(frame_file_name(index, frame_count));
+        let result = write_png_atomically(&path, &image, &mut rgb).map(|()| index);
+        let failed = result.is_err();
+        let _ = done.send(result);
+        if failed {
+            break;
+        }
+    }
+}
+
+/// Renders every frame of a finished run, writes PNG frames and the video
+/// (a [`SequenceWriter`] fed every frame). Calls `progress(i)` after frame
+/// `i` is written.
+///
+/// Frames go to `frames_dir/frame_0000.png`, `frame_0001.png`, ... (more
+/// digits past 10000 frames); videos to `video_dir/video.{png,mp4,gif}`. Every
+/// file appears under its final name only once complete. `progress` is
+/// called in frame order, on the calling thread.
+pub fn render_sequence(
+    settings: &RenderSettings,
+    mesh: &RenderMesh,
+    frames: &[RenderFrame],
+    outputs: &RenderOutputs,
+    progress: &mut dyn FnMut(usize),
+) -> Result<(), RenderError> {
+    let mut writer = SequenceWriter::create(settings, mesh, frames.len(), frames, outputs)?;
+    let mut reported = 0;
+    let mut report = |written: usize, progress: &mut dyn FnMut(usize)| {
+        while reported < written {
+            progress(reported);
+            reported += 1;
+        }
+    };
+    for frame in frames {
+        writer.push(frame)?;
+        report(writer.frames_written(), progress);
+    }
+    writer.finish()?;
+    report(frames.len(), progress);
+    Ok(())
+}
