@@ -72,6 +72,11 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     /// Whether the energy is infinite for `det F <= 0` (the line search must
     /// then keep every element uninverted).
     fn forbids_inversion(&self) -> bool;
+    /// The out-of-plane Cauchy stress `sigma_zz` of a 2D body read as plane
+    /// strain. Every 2D energy here is its 3D form restricted to
+    /// `F = [[F_2D, 0], [0, 1]]`, so the in-plane stresses agree with 3D and
+    /// `sigma_zz` is the stress that holds `F_zz = 1`. Meaningful for `D = 2`.
+    fn plane_strain_normal_stress(&self, f: &Matrix<D>) -> f64;
 }
 
 /// St. Venant-Kirchhoff: `S = 2 mu E + lambda tr(E) I`, `P = F S`.
@@ -128,6 +133,11 @@ impl<const D: usize> HyperelasticMaterial<D> for StVenantKirchhoff {
     fn forbids_inversion(&self) -> bool {
         false
     }
+
+    /// `S_zz = lambda tr(E)` (as `E_zz = 0`) and `sigma_zz = F_zz S_zz F_zz / J = S_zz / J`.
+    fn plane_strain_normal_stress(&self, f: &Matrix<D>) -> f64 {
+        self.lame.lambda * Self::green_strain(f).trace() / determinant(f)
+    }
 }
 
 impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
@@ -171,6 +181,16 @@ impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
 
     fn forbids_inversion(&self) -> bool {
         true
+    }
+
+    /// `P_zz = mu (F_zz - F^-T_zz) + lambda ln J F^-T_zz = lambda ln J` (as
+    /// `F_zz = 1`) and `sigma_zz = P_zz F_zz / J = lambda ln J / J`.
+    fn plane_strain_normal_stress(&self, f: &Matrix<D>) -> f64 {
+        let j = determinant(f);
+        if !(j > 0.0) {
+            return f64::NAN;
+        }
+        self.lame.lambda * j.ln() / j
     }
 }
 

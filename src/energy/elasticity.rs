@@ -199,7 +199,11 @@ impl<const D: usize> Elasticity<D> {
             .map(|f| match field {
                 ElementField::EnergyDensity => m.energy_density(f),
                 ElementField::VolumeRatio => determinant(f),
-                ElementField::VonMises => von_mises(&HyperelasticMaterial::<D>::first_piola(m, f), f),
+                ElementField::VonMises => {
+                    let p = HyperelasticMaterial::<D>::first_piola(m, f);
+                    let out_of_plane = if D == 2 { m.plane_strain_normal_stress(f) } else { 0.0 };
+                    von_mises(&p, f, out_of_plane)
+                }
             })
             .collect())
     }
@@ -217,17 +221,18 @@ fn is_positive_definite<const D: usize>(dp: &crate::math::StressDerivative<D>) -
 }
 
 /// Von Mises equivalent stress of the Cauchy stress `sigma = P F^T / J`:
-/// `sqrt(3/2 s:s)` with the deviator `s` taken in 3D, a 2D stress embedded with
-/// zero out-of-plane components: `s:s = sigma:sigma - tr(sigma)^2 / 3`.
-fn von_mises<const D: usize>(p: &Matrix<D>, f: &Matrix<D>) -> f64 {
+/// `sqrt(3/2 s:s)` with the deviator `s` of the 3D stress. A 2D stress is
+/// completed by its plane-strain `sigma_zz` (`out_of_plane`; 0 in 3D), so
+/// `s:s = sigma:sigma + sigma_zz^2 - (tr(sigma) + sigma_zz)^2 / 3`.
+fn von_mises<const D: usize>(p: &Matrix<D>, f: &Matrix<D>, out_of_plane: f64) -> f64 {
     let j = determinant(f);
     if !(j > 0.0) {
         return f64::NAN;
     }
     let sigma = p * f.transpose() / j;
-    (1.5 * (sigma.norm_squared() - sigma.trace().powi(2) / 3.0))
-        .max(0.0)
-        .sqrt()
+    let squares = sigma.norm_squared() + out_of_plane.powi(2);
+    let trace = sigma.trace() + out_of_plane;
+    (1.5 * (squares - trace.powi(2) / 3.0)).max(0.0).sqrt()
 }
 
 impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
