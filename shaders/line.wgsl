@@ -2,32 +2,7 @@
 // to a rectangle of its width in pixels (with square caps), pulled slightly
 // towards the eye so that edges win the depth test against their own faces.
 
-// Per-run uniforms, identical in every shader (see `Globals` in src/render/renderer.rs).
-struct Globals {
-    view_proj: mat4x4<f32>,
-    // Eye position (w = 1) or unit direction towards the viewer (w = 0).
-    eye: vec4<f32>,
-    // Direction towards the key light; w: how much lighting applies (0 in 2D).
-    light: vec4<f32>,
-    // Image width and height in pixels, pixel scale (height / 720), line pull towards the eye.
-    viewport: vec4<f32>,
-    // Ground height, checker tile size, fade start and end distance (3D).
-    ground: vec4<f32>,
-    // Ground centre x and z, quad half extent, ground surface pixel row (2D).
-    ground_center: vec4<f32>,
-    // Contact shadow centre x and z, radius x and z.
-    shadow: vec4<f32>,
-    // Contact shadow strength and softness.
-    shadow_params: vec4<f32>,
-    // Background at the top and bottom of the image, linear RGB.
-    sky_top: vec4<f32>,
-    sky_bottom: vec4<f32>,
-    // The two ground colours (fill and hatching in 2D, checker in 3D), linear RGB.
-    ground_light: vec4<f32>,
-    ground_dark: vec4<f32>,
-};
-
-@group(0) @binding(0) var<uniform> g: Globals;
+// `Globals` and its binding `g` come from globals.wgsl, prepended when loaded.
 
 struct LineIn {
     @location(0) start: vec3<f32>,

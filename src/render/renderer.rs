@@ -100,6 +100,20 @@ pub struct Renderer {
     colour_scratch: Vec<[f32; 3]>,
 }
 
+/// A shader module from `shaders/NAME.wgsl` with `shaders/globals.wgsl`
+/// (the uniform block every shader shares) prepended, at compile time.
+macro_rules! shader {
+    ($name:literal) => {
+        wgpu::ShaderModuleDescriptor {
+            label: Some($name),
+            source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Borrowed(concat!(
+                include_str!("../../shaders/globals.wgsl"),
+                include_str!(concat!("../../shaders/", $name, ".wgsl"))
+            ))),
+        }
+    };
+}
+
 struct Resources {
     bind_group: wgpu::BindGroup,
     uniforms: wgpu::Buffer,
@@ -827,7 +841,7 @@ impl Resources {
         };
         let background = builder.build(
             "background pipeline",
-            &device.create_shader_module(wgpu::include_wgsl!("../../shaders/background.wgsl")),
+            &device.create_shader_module(shader!("background")),
             &[],
             None,
             false,
@@ -836,8 +850,7 @@ impl Resources {
             if dimension == 2 {
                 builder.build(
                     "2D ground pipeline",
-                    &device
-                        .create_shader_module(wgpu::include_wgsl!("../../shaders/ground2d.wgsl")),
+                    &device.create_shader_module(shader!("ground2d")),
                     &[],
                     Some(wgpu::BlendState::ALPHA_BLENDING),
                     false,
@@ -845,8 +858,7 @@ impl Resources {
             } else {
                 builder.build(
                     "3D ground pipeline",
-                    &device
-                        .create_shader_module(wgpu::include_wgsl!("../../shaders/ground3d.wgsl")),
+                    &device.create_shader_module(shader!("ground3d")),
                     &[],
                     None,
                     true,
@@ -855,7 +867,7 @@ impl Resources {
         });
         let surface = builder.build(
             "surface pipeline",
-            &device.create_shader_module(wgpu::include_wgsl!("../../shaders/surface.wgsl")),
+            &device.create_shader_module(shader!("surface")),
             &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
                 step_mode: wgpu::VertexStepMode::Vertex,
@@ -866,7 +878,7 @@ impl Resources {
         );
         let line = builder.build(
             "line pipeline",
-            &device.create_shader_module(wgpu::include_wgsl!("../../shaders/line.wgsl")),
+            &device.create_shader_module(shader!("line")),
             &[Some(wgpu::VertexBufferLayout {
                 array_stride: std::mem::size_of::<LineInstance>() as u64,
                 step_mode: wgpu::VertexStepMode::Instance,
