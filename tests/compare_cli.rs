@@ -56,11 +56,16 @@ fn compare(golden: &Path, frames: &Path, extra: &[&str]) -> Output {
         .expect("the elasto binary runs")
 }
 
-fn text(output: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&output.stdout).into_owned(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
+/// Stdout and stderr, after checking the exit code (both shown if it is wrong).
+fn expect_exit(output: &Output, code: i32) -> (String, String) {
+    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+    assert_eq!(
+        output.status.code(),
+        Some(code),
+        "stdout:\n{stdout}\nstderr:\n{stderr}"
+    );
+    (stdout, stderr)
 }
 
 /// The table row of `name`.
@@ -75,12 +80,7 @@ fn row<'a>(stdout: &'a str, name: &str) -> &'a str {
 fn identical_frames_pass_with_exit_0() {
     let (tmp, golden, frames) = folders();
     let out = compare(&golden, &frames, &[]);
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (stdout, _) = expect_exit(&out, 0);
     for i in 0..3 {
         let r = row(&stdout, &format!("frame_{i:04}.png"));
         assert!(r.ends_with("pass") && r.contains("0.000000"), "{r}");
@@ -101,12 +101,7 @@ fn a_shifted_frame_fails_with_exit_1_and_is_named() {
     save(&frames, "frame_0001.png", &box_frame(160, 120, 54)); // 4 px to the right
     let diff = tmp.path().join("diffs");
     let out = compare(&golden, &frames, &["--diff", diff.to_str().unwrap()]);
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (stdout, _) = expect_exit(&out, 1);
     assert!(row(&stdout, "frame_0001.png").contains("FAIL"), "{stdout}");
     assert!(row(&stdout, "frame_0000.png").ends_with("pass"), "{stdout}");
     assert!(row(&stdout, "frame_0002.png").ends_with("pass"), "{stdout}");
@@ -127,21 +122,11 @@ fn thresholds_from_the_command_line_are_used() {
         &frames,
         &["--threshold-mean", "1", "--threshold-percentile", "1"],
     );
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (stdout, _) = expect_exit(&out, 0);
     assert!(row(&stdout, "frame_0001.png").ends_with("pass"), "{stdout}");
 
     let out = compare(&golden, &frames, &["--threshold-mean", "1.5"]);
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(2),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (_, stderr) = expect_exit(&out, 2);
     assert!(
         stderr.contains("mean") && stderr.contains("1.5"),
         "{stderr}"
@@ -153,12 +138,7 @@ fn a_missing_frame_fails_with_exit_1() {
     let (_tmp, golden, frames) = folders();
     std::fs::remove_file(frames.join("frame_0002.png")).unwrap();
     let out = compare(&golden, &frames, &[]);
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (stdout, _) = expect_exit(&out, 1);
     assert!(
         row(&stdout, "frame_0002.png").contains("MISSING"),
         "{stdout}"
@@ -170,12 +150,7 @@ fn a_size_mismatch_fails_with_exit_1() {
     let (_tmp, golden, frames) = folders();
     save(&frames, "frame_0000.png", &box_frame(320, 240, 40));
     let out = compare(&golden, &frames, &[]);
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (stdout, _) = expect_exit(&out, 1);
     let r = row(&stdout, "frame_0000.png");
     assert!(
         r.contains("SIZE MISMATCH (golden 160x120, actual 320x240)"),
@@ -189,12 +164,7 @@ fn an_empty_golden_folder_is_an_error_naming_it() {
     let empty = tmp.path().join("empty-golden");
     std::fs::create_dir_all(&empty).unwrap();
     let out = compare(&empty, &frames, &[]);
-    let (stdout, stderr) = text(&out);
-    assert_eq!(
-        out.status.code(),
-        Some(2),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
+    let (_, stderr) = expect_exit(&out, 2);
     assert!(
         stderr.contains("empty-golden") && stderr.contains("no *.png"),
         "{stderr}"
