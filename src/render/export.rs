@@ -1,7 +1,7 @@
 //! Output files of a run: frame names, PNG frames written atomically, and the
 //! check that the requested videos can be written.
 
-use super::video::{rgba_to_rgb, temporary_path};
+use super::video::{png_error, rgba_to_rgb, temporary_path};
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::fs::File;
@@ -74,16 +74,7 @@ pub(crate) fn write_png_atomically(
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_compression(png::Compression::Fast);
         encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let encode_error = |e: png::EncodingError| match e {
-            png::EncodingError::IoError(source) => RenderError::Io {
-                path: path.to_owned(),
-                source,
-            },
-            other => RenderError::Encode {
-                path: path.to_owned(),
-                message: other.to_string(),
-            },
-        };
+        let encode_error = |e: png::EncodingError| png_error(path, e);
         let mut writer = encoder.write_header().map_err(encode_error)?;
         rgba_to_rgb(image, rgb);
         writer.write_image_data(rgb).map_err(encode_error)?;

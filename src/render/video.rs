@@ -113,7 +113,7 @@ struct ApngWriter {
 
 impl ApngWriter {
     fn new(spec: &VideoSpec<'_>) -> Result<Self, RenderError> {
-        let encode_error = |e: png::EncodingError| encode_error(spec.path, e);
+        let encode_error = |e: png::EncodingError| png_error(spec.path, e);
         let frames = u32::try_from(spec.frame_count).map_err(|_| RenderError::Encode {
             path: spec.path.to_owned(),
             message: format!("{} frames are too many for APNG", spec.frame_count),
@@ -142,12 +142,12 @@ impl VideoWriter for ApngWriter {
         rgba_to_rgb(frame, &mut self.rgb);
         self.writer
             .write_image_data(&self.rgb)
-            .map_err(|e| encode_error(&self.path, e))
+            .map_err(|e| png_error(&self.path, e))
     }
 
     fn finish(self: Box<Self>) -> Result<(), RenderError> {
         let path = self.path;
-        self.writer.finish().map_err(|e| encode_error(&path, e))
+        self.writer.finish().map_err(|e| png_error(&path, e))
     }
 }
 
@@ -162,7 +162,8 @@ pub(crate) fn rgba_to_rgb(image: &RgbaImage, rgb: &mut Vec<u8>) {
     );
 }
 
-fn encode_error(path: &Path, error: png::EncodingError) -> RenderError {
+/// A PNG encoder's error, naming the file being written.
+pub(crate) fn png_error(path: &Path, error: png::EncodingError) -> RenderError {
     match error {
         png::EncodingError::IoError(source) => RenderError::Io {
             path: path.to_owned(),
