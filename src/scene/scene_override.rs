@@ -18,30 +18,20 @@ pub struct SceneOverride {
 impl SceneOverride {
     /// Sets `key` (dotted) to the TOML value `value`, reported as `flag`.
     pub fn set(key: &str, value: &str, flag: impl Into<String>) -> Result<Self, SceneError> {
-        let flag = flag.into();
-        let path = parse_key(key).map_err(|reason| SceneError::BadOverride {
-            flag: flag.clone(),
-            reason,
-        })?;
-        Ok(Self {
-            path,
-            value: Some(value.to_owned()),
-            flag,
-        })
+        Self::new(key, Some(value.to_owned()), flag.into())
     }
 
     /// Removes `key` (dotted) if present, reported as `flag`.
     pub fn remove(key: &str, flag: impl Into<String>) -> Result<Self, SceneError> {
-        let flag = flag.into();
+        Self::new(key, None, flag.into())
+    }
+
+    fn new(key: &str, value: Option<String>, flag: String) -> Result<Self, SceneError> {
         let path = parse_key(key).map_err(|reason| SceneError::BadOverride {
             flag: flag.clone(),
             reason,
         })?;
-        Ok(Self {
-            path,
-            value: None,
-            flag,
-        })
+        Ok(Self { path, value, flag })
     }
 
     /// The dotted key.
