@@ -1,9 +1,8 @@
 //! `elasto check`: validate a scene and print what would be simulated.
 
 use super::cli::CheckArgs;
-use super::{AppError, scene_overrides};
+use super::{AppError, build_simulation, scene_overrides};
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
-use crate::sim::Simulation;
 use crate::solver::SolverMethod;
 use std::fmt::Write as _;
 
@@ -22,23 +21,7 @@ pub fn check(args: &CheckArgs) -> Result<String, AppError> {
 /// Builds the mesh and the simulation (no stepping) so that every setup error
 /// shows here, and reports the barrier stiffness in use.
 fn barrier_stiffness<const D: usize>(config: &SceneConfig<D>) -> Result<Option<f64>, AppError> {
-    let mesh = config.mesh.build().map_err(|source| AppError::Mesh {
-        scene: config.name.clone(),
-        source,
-    })?;
-    let sim = Simulation::new(
-        mesh,
-        config.material.material,
-        config.material.density,
-        config.effects.clone(),
-        config.simulation_settings(),
-        config.initial_velocity,
-    )
-    .map_err(|source| AppError::Setup {
-        scene: config.name.clone(),
-        source,
-    })?;
-    Ok(sim.barrier_stiffness())
+    Ok(build_simulation(config)?.barrier_stiffness())
 }
 
 fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String {

@@ -20,7 +20,8 @@ pub use cli::{
 };
 pub use progress::{Progress, ProgressMode};
 
-use crate::scene::{SceneError, SceneOverride};
+use crate::scene::{SceneConfig, SceneError, SceneOverride};
+use crate::sim::Simulation;
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<(), AppError> {
@@ -41,4 +42,25 @@ pub fn run(cli: Cli) -> Result<(), AppError> {
 /// Parses the `--set` arguments.
 fn scene_overrides(set: &[String]) -> Result<Vec<SceneOverride>, SceneError> {
     set.iter().map(|s| s.parse()).collect()
+}
+
+/// Builds a scene's mesh and simulation (no steps taken); mesh and setup
+/// errors name the scene.
+fn build_simulation<const D: usize>(config: &SceneConfig<D>) -> Result<Simulation<D>, AppError> {
+    let mesh = config.mesh.build().map_err(|source| AppError::Mesh {
+        scene: config.name.clone(),
+        source,
+    })?;
+    Simulation::new(
+        mesh,
+        config.material.material,
+        config.material.density,
+        config.effects.clone(),
+        config.simulation_settings(),
+        config.initial_velocity,
+    )
+    .map_err(|source| AppError::Setup {
+        scene: config.name.clone(),
+        source,
+    })
 }

@@ -12,7 +12,7 @@ use super::cli::{RunArgs, VideoChoice};
 use super::progress::{Progress, ProgressMode};
 use super::render_glue::render_settings;
 use super::render_stage::RenderStage;
-use super::{AppError, scene_overrides};
+use super::{AppError, build_simulation, scene_overrides};
 use crate::math::{UP_AXIS, Vector};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
@@ -105,24 +105,9 @@ fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
 
 fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(), AppError> {
     let name = config.name.clone();
-    let mesh = config.mesh.build().map_err(|source| AppError::Mesh {
-        scene: name.clone(),
-        source,
-    })?;
-    let masses = mesh.lumped_masses(config.material.density);
-    let render_mesh = plan.render.then(|| RenderMesh::from_mesh(&mesh));
-    let mut sim = Simulation::new(
-        mesh,
-        config.material.material,
-        config.material.density,
-        config.effects.clone(),
-        config.simulation_settings(),
-        config.initial_velocity,
-    )
-    .map_err(|source| AppError::Setup {
-        scene: name.clone(),
-        source,
-    })?;
+    let mut sim = build_simulation(config)?;
+    let masses = sim.mesh().lumped_masses(config.material.density);
+    let render_mesh = plan.render.then(|| RenderMesh::from_mesh(sim.mesh()));
     if plan.render {
         // No graphics adapter: fail now, not after the simulation.
         adapter_description().map_err(AppError::Render)?;
