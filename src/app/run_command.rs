@@ -13,16 +13,14 @@ use super::progress::{Progress, ProgressMode};
 use super::render_glue::render_settings;
 use super::render_stage::RenderStage;
 use super::{AppError, build_simulation, scene_overrides};
-use crate::math::{UP_AXIS, Vector};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
     RenderFrame, RenderMesh, RenderOutputs, VideoFormat, adapter_description, check_video_support,
     video_file_name,
 };
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
-use crate::sim::{ElementField, FrameStats, PhaseTimes, Simulation};
+use crate::sim::ElementField;
 use std::path::PathBuf;
-use std::time::Duration;
 
 /// Runs `elasto run`.
 pub fn run(args: &RunArgs) -> Result<(), AppError> {
@@ -106,7 +104,6 @@ fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
 fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(), AppError> {
     let name = config.name.clone();
     let mut sim = build_simulation(config)?;
-    let masses = sim.mesh().lumped_masses(config.material.density);
     let render_mesh = plan.render.then(|| RenderMesh::from_mesh(sim.mesh()));
     if plan.render {
         // No graphics adapter: fail now, not after the simulation.
@@ -152,7 +149,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
     let mut progress = Progress::start(plan.progress, label, frames);
     for frame in 0..frames {
         let frame_stats = if frame == 0 {
-            initial_stats(&sim, &masses, config)
+            sim.frame_stats()
         } else {
             sim.advance_frame(config.time.substeps)
                 .map_err(|source| AppError::Simulation {
@@ -217,42 +214,4 @@ fn resolved_header(resolved: &str) -> String {
         "# The fully resolved scene of this run (defaults filled in, overrides applied).\n\
          # Reproduce the run with: elasto run path/to/this/scene.toml\n\n{resolved}"
     )
-}
-
-/// Statistics of frame 0, the initial state (no steps taken).
-fn initial_stats<const D: usize>(
-    sim: &Simulation<D>,
-    masses: &[f64],
-    config: &SceneConfig<D>,
-) -> FrameStats<D> {
-    let positions = sim.positions();
-    let total_mass: f64 = masses.iter().sum();
-    let centre_of_mass = positions
-        .iter()
-        .zip(masses)
-        .fold(Vector::<D>::zeros(), |acc, (x, m)| acc + x * *m)
-        / total_mass;
-    let min_height = config.effects.ground.map(|g| {
-        positions
-            .iter()
-            .map(|x| x[UP_AXIS] - g.height)
-            .fold(f64::INFINITY, f64::min)
-    });
-    let min_volume_ratio = sim
-        .element_field(ElementField::VolumeRatio)
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
-    FrameStats {
-        time: sim.time(),
-        iterations: 0,
-        linear_solves: 0,
-        backtracks: 0,
-        unconverged_steps: 0,
-        energy: sim.energies(),
-        centre_of_mass,
-        min_height,
-        min_volume_ratio,
-        times: PhaseTimes::default(),
-        wall_time: Duration::ZERO,
-    }
 }
