@@ -47,6 +47,7 @@ fn simulate(run: &Run, end: f64) -> (Vec<Vector2>, Vector2, f64) {
         };
         let settings = SimulationSettings {
             dt: run.dt,
+            integrator: Default::default(),
             solver: run.solver,
         };
         let material = Material::StVenantKirchhoff(StVenantKirchhoff { lame });

@@ -10,7 +10,8 @@
 use elasto::material::{LameParameters, Material, NeoHookean, YoungPoisson};
 use elasto::math::Vector;
 use elasto::mesh::Mesh;
-use elasto::sim::{Effects, Ground, PhaseTimes, Simulation, SimulationSettings};
+use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
+use elasto::solver::PhaseTimes;
 use elasto::solver::SolverSettings;
 use std::time::{Duration, Instant};
 
@@ -43,6 +44,7 @@ fn bench<const D: usize>(cells: [usize; D]) {
     };
     let settings = SimulationSettings {
         dt: 1.0 / 300.0,
+        integrator: Default::default(),
         solver: SolverSettings {
             max_iterations: 1,
             ..Default::default()

@@ -3,27 +3,35 @@
 //! Newton, and rendered headless with wgpu to PNG frames and video.
 //!
 //! Data flows one way: scene → mesh + effects → time stepper → positions →
-//! renderer → files. The simulation core ([`mesh`], [`material`], [`energy`],
-//! [`solver`], [`sim`]) knows nothing about rendering; the renderer
-//! ([`render`]) knows nothing about materials.
+//! renderer → files. The simulation core ([`math`], [`mesh`], [`material`],
+//! [`assembly`], [`energy`], [`solver`], [`integrator`], [`sim`]) knows
+//! nothing about rendering; the renderer ([`render`]) knows nothing about
+//! materials.
+//!
+//! The modules form layers, lowest first: `math` → `mesh`, `material` →
+//! `assembly` → `energy` → `solver` → `integrator` → `sim` → `output`,
+//! `render`, `compare` → `scene` → `app`. No module refers to a layer above
+//! its own; `tests/layering.rs` holds the order and enforces it.
 #![warn(missing_docs)]
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-// Simulation core.
+// Simulation core (its layer order is in the crate doc above).
+pub mod assembly;
 pub mod energy;
 pub mod finite_volume;
+pub mod integrator;
 pub mod material;
 pub mod math;
 pub mod mesh;
 pub mod sim;
 pub mod solver;
 
+// Outputs: data files, rendering and image comparison.
+pub mod compare;
+pub mod output;
+pub mod render;
+
 // Scene files and the application layer.
 pub mod app;
-pub mod output;
 pub mod scene;
-
-// Rendering and image comparison.
-pub mod compare;
-pub mod render;

@@ -34,6 +34,7 @@ fn free_fall_matches_the_discrete_closed_form<const D: usize>() {
     let dt = 0.01;
     let settings = SimulationSettings {
         dt,
+        integrator: Default::default(),
         solver: SolverSettings {
             tolerance: 1e-9,
             ..Default::default()
@@ -176,6 +177,7 @@ fn hanging_bar_tip<const D: usize>(cells_along: usize, cells_across: usize) -> (
     };
     let settings = SimulationSettings {
         dt: 1e4,
+        integrator: Default::default(),
         solver: SolverSettings {
             tolerance: 1e-12,
             max_iterations: 100,

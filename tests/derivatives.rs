@@ -6,11 +6,11 @@
 #[macro_use]
 mod support;
 
+use elasto::assembly::SparseHessian;
 use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use elasto::material::{HyperelasticMaterial, Material, NeoHookean, StVenantKirchhoff};
 use elasto::math::{DenseMatrix, Matrix, Vector, project_to_psd};
 use elasto::mesh::Mesh;
-use elasto::solver::SparseHessian;
 use std::sync::Arc;
 use support::*;
 

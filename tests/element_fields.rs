@@ -7,9 +7,9 @@
 mod support;
 
 use elasto::energy::Elasticity;
+use elasto::energy::ElementField;
 use elasto::material::{HyperelasticMaterial, Material};
 use elasto::math::{Matrix, Vector, determinant};
-use elasto::sim::ElementField;
 use std::sync::Arc;
 use support::{Rng, lame, neo_hookean, random_f, relative_error, stvk, unit_box};
 

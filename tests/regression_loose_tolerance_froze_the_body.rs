@@ -17,6 +17,7 @@ fn a_loose_tolerance_still_takes_the_newton_step() {
     let dt = 1.0 / 300.0;
     let settings = SimulationSettings {
         dt,
+        integrator: Default::default(),
         solver: SolverSettings {
             tolerance: 1e-1,
             ..Default::default()

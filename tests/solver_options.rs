@@ -26,7 +26,11 @@ fn falling_box(solver: SolverSettings, ground: bool) -> Simulation<2> {
         stvk(),
         1.0,
         effects,
-        SimulationSettings { dt: 0.01, solver },
+        SimulationSettings {
+            dt: 0.01,
+            solver,
+            ..Default::default()
+        },
         Vector2::new(0.3, -1.0),
     )
     .unwrap()

@@ -63,6 +63,7 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
     };
     let settings = SimulationSettings {
         dt: case.dt,
+        integrator: Default::default(),
         solver: SolverSettings {
             max_iterations: 300,
             ..Default::default()

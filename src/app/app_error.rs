@@ -21,7 +21,8 @@ pub enum AppError {
         /// Why.
         source: MeshError,
     },
-    /// The simulation rejected the scene before stepping.
+    /// The simulation rejected the scene before stepping (exit 2), or
+    /// setting up its solver failed (exit 1).
     #[error("cannot set up scene `{scene}`")]
     Setup {
         /// Scene name.
@@ -72,6 +73,7 @@ impl AppError {
     /// working (solver, renderer, writing a file, frames that differ).
     pub fn exit_code(&self) -> i32 {
         match self {
+            AppError::Setup { source, .. } if !source.is_bad_input() => 1,
             AppError::Scene(_)
             | AppError::Mesh { .. }
             | AppError::Setup { .. }

@@ -28,7 +28,6 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
     let mut s = String::new();
     let time = scene.time();
     let material = scene.material();
-    let lame = material.material.lame();
     let solver = scene.solver();
     let effects = scene.effect_names();
     let render = scene.render();
@@ -40,12 +39,17 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
         scene.vertex_count(),
         scene.element_count()
     );
+    let constants: Vec<String> = material
+        .material
+        .parameters()
+        .iter()
+        .map(|(name, value)| format!("{name} = {value}"))
+        .collect();
     let _ = writeln!(
         s,
-        "  material        {}, mu = {}, lambda = {}, density = {}",
+        "  material        {}, {}, density = {}",
         material.model_name(),
-        lame.mu,
-        lame.lambda,
+        constants.join(", "),
         material.density
     );
     let _ = writeln!(

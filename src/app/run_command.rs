@@ -13,13 +13,13 @@ use super::progress::{Progress, ProgressMode};
 use super::render_glue::render_settings;
 use super::render_stage::RenderStage;
 use super::{AppError, build_simulation, scene_overrides};
+use crate::energy::ElementField;
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
     RenderFrame, RenderMesh, RenderOutputs, VideoFormat, adapter_description, check_video_support,
     video_file_name,
 };
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
-use crate::sim::ElementField;
 use std::path::PathBuf;
 
 /// Runs `elasto run`.
@@ -114,7 +114,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
     let out = OutputDir::check(&plan.out, plan.force)?;
     out.prepare()?;
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
-    let mut stats = StatsWriter::create(&out.join("stats.csv"))?;
+    let mut stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
     let mut meshes = if plan.save_meshes {
         Some(MeshSeriesWriter::create(&out.join("meshes"))?)
     } else {

@@ -18,14 +18,14 @@
 //! The finite-volume force of the report equals `-dU/dx_a`; see
 //! [`crate::finite_volume`].
 
+use super::ElementField;
 use super::EnergyTerm;
-use crate::material::{HyperelasticMaterial, Material};
+use crate::assembly::SparseHessian;
+use crate::material::{HyperelasticMaterial, Material, with_material};
 use crate::math::{
     DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in, project_to_psd,
 };
 use crate::mesh::{Mesh, RestElement, edge_matrix};
-use crate::sim::ElementField;
-use crate::solver::SparseHessian;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -42,16 +42,6 @@ pub struct Elasticity<const D: usize> {
     /// For each vertex, the slots `e * (D + 1) + a` of the elements around it, in element order.
     vertex_slot_offsets: Vec<usize>,
     vertex_slots: Vec<usize>,
-}
-
-/// Calls `$body` with `$m` bound to the concrete material.
-macro_rules! with_material {
-    ($material:expr, $m:ident => $body:expr) => {
-        match $material {
-            Material::StVenantKirchhoff($m) => $body,
-            Material::NeoHookean($m) => $body,
-        }
-    };
 }
 
 /// Gradient of the linear shape function of local vertex `a` (constant over the element).
@@ -212,7 +202,11 @@ impl<const D: usize> Elasticity<D> {
 /// Whether `dP/dF`, as a `D^2 x D^2` matrix, is positive definite (one
 /// Cholesky attempt). Then `H_e = V G^T (dP/dF) G` is PSD already and its
 /// projection would return it unchanged, so the eigen-decomposition is
-/// skipped: the common case near rest, and a large saving in 3D.
+/// skipped. This is not the common case near rest: for the isotropic
+/// materials here the eigenvalue of `dP/dF` for the twist (rotation) mode is
+/// zero at every rotation and negative under compression, so `dP/dF` is only
+/// positive semi-definite (or indefinite) there and the projection runs. It
+/// pays off for stretched elements.
 fn is_positive_definite<const D: usize>(dp: &crate::math::StressDerivative<D>) -> bool {
     let flat = DenseMatrix::from_fn(D * D, D * D, |row, col| {
         dp[col / D][col % D][(row / D, row % D)]

@@ -1,8 +1,8 @@
 //! Gravity: `U = -sum_i m_i g . x_i`, a linear potential (zero Hessian).
 
 use super::EnergyTerm;
+use crate::assembly::SparseHessian;
 use crate::math::Vector;
-use crate::solver::SparseHessian;
 
 /// Uniform gravitational acceleration acting on lumped masses.
 #[derive(Debug, Clone)]

@@ -23,8 +23,8 @@
 //! the ground still gets a usable stiffness.
 
 use super::EnergyTerm;
+use crate::assembly::SparseHessian;
 use crate::math::{Matrix, UP_AXIS, Vector};
-use crate::solver::SparseHessian;
 
 /// The fraction of the current gap a single line-search step may close at most.
 pub const CONTACT_STEP_FRACTION: f64 = 0.9;

@@ -1,8 +1,8 @@
 //! Inertia: `1/2 sum_i m_i |x_i - x_pred_i|^2`, the kinetic part of the incremental potential.
 
 use super::EnergyTerm;
+use crate::assembly::SparseHessian;
 use crate::math::{Matrix, Vector};
-use crate::solver::SparseHessian;
 
 /// The inertia term with lumped masses and the predicted positions `x_pred = x_n + dt v_n`.
 #[derive(Debug, Clone)]

@@ -1,29 +1,43 @@
 //! Energy terms of the incremental potential, each with value, gradient and Hessian.
 //!
-//! A time step minimises `E(x) = 1/2 |x - x_pred|_M^2 + dt^2 sum_k U_k(x)`
+//! A time step minimises `E(x) = 1/2 |x - x~|_M^2 + w sum_k U_k(x)`
 //! ([`Inertia`] plus the potential terms a scene asks for: [`Elasticity`],
-//! [`Gravity`], [`GroundBarrier`]). Only the terms a scene asks for are built, so
-//! an absent effect costs nothing: no flag is checked inside a hot loop.
+//! [`Gravity`], [`GroundBarrier`]), where the time integrator chooses the
+//! prediction `x~` and the weight `w` (`dt^2` for backward Euler). Only the
+//! terms a scene asks for are built, so an absent effect costs nothing: no
+//! flag is checked inside a hot loop.
 //!
-//! Every term adds into shared accumulators with a `scale` (the `dt^2` above):
+//! Every term adds into shared accumulators with a `scale` (the weight `w`):
 //! the gradient as one vector per vertex, the Hessian through a
 //! [`SparseHessian`] (projected to be positive semi-definite, so that the
 //! Newton direction is a descent direction). A term may also cap the line
 //! search ([`EnergyTerm::max_step`]): the ground barrier never lets a vertex
-//! reach the plane, a Neo-Hookean body never lets an element invert.
+//! reach the plane, a Neo-Hookean body never lets an element invert. A term
+//! may update itself once per time step ([`EnergyTerm::begin_step`]).
+//!
+//! # Adding a term
+//!
+//! One new file implementing [`EnergyTerm`], and one line in the simulation's
+//! setup (`sim/simulation_setup.rs`) that builds it when the scene asks for
+//! the effect. Its name and value then appear in the per-frame energy
+//! breakdown (`stats.csv`, `elasto check`) without further code. A term that
+//! couples vertices sharing no element (contact pairs) needs the growing
+//! pattern described in [`crate::assembly`].
 
 mod elasticity;
+mod element_field;
 mod gravity;
 mod ground_barrier;
 mod inertia;
 
 pub use elasticity::Elasticity;
+pub use element_field::ElementField;
 pub use gravity::Gravity;
 pub use ground_barrier::GroundBarrier;
 pub use inertia::Inertia;
 
+use crate::assembly::SparseHessian;
 use crate::math::Vector;
-use crate::solver::SparseHessian;
 
 /// One additive term of the incremental potential.
 pub trait EnergyTerm<const D: usize>: Send + Sync {
@@ -40,4 +54,9 @@ pub trait EnergyTerm<const D: usize>: Send + Sync {
     fn max_step(&self, _x: &[Vector<D>], _dx: &[Vector<D>]) -> f64 {
         1.0
     }
+    /// Called once at the start of every time step, before the solve, with
+    /// the positions and velocities the step starts from. A term whose
+    /// energy depends on the step's start (lagged friction needs the contact
+    /// forces there) updates itself here; most terms do nothing.
+    fn begin_step(&mut self, _x: &[Vector<D>], _v: &[Vector<D>]) {}
 }

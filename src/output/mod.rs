@@ -12,4 +12,4 @@ mod stats_writer;
 pub use mesh_series_writer::MeshSeriesWriter;
 pub use output_dir::OutputDir;
 pub use output_error::OutputError;
-pub use stats_writer::{STATS_COLUMNS, StatsWriter};
+pub use stats_writer::{StatsWriter, stats_columns};

@@ -7,28 +7,17 @@ use std::fs::File;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The columns of `stats.csv`, in order.
-///
-/// `frame`: output frame index (frame 0 is the initial state); `time`: its
-/// simulated time, s; `newton_iters`, `linear_solves`, `backtracks`: summed
-/// over the frame's steps (0 for frame 0); `kinetic`, `elastic`, `gravity`,
-/// `barrier`, `total_energy`: energies at the frame's end; `com_x`, `com_y`,
-/// `com_z`: centre of mass (`com_z` is 0 in 2D); `min_height`: lowest vertex
-/// height above the ground (empty without a ground); `min_volume_ratio`:
-/// smallest `J = det F` over the elements; `sim_ms`: wall time spent
-/// simulating the frame; `unconverged_steps`: steps that hit the iteration
-/// cap; `assembly_ms`, `factorisation_ms`, `line_search_ms`: the wall time
-/// of each solver phase.
-pub const STATS_COLUMNS: &[&str] = &[
+/// The columns of `stats.csv` before the energies.
+const LEADING_COLUMNS: &[&str] = &[
     "frame",
     "time",
     "newton_iters",
     "linear_solves",
     "backtracks",
-    "kinetic",
-    "elastic",
-    "gravity",
-    "barrier",
+];
+
+/// The columns of `stats.csv` after the energies.
+const TRAILING_COLUMNS: &[&str] = &[
     "total_energy",
     "com_x",
     "com_y",
@@ -37,27 +26,56 @@ pub const STATS_COLUMNS: &[&str] = &[
     "min_volume_ratio",
     "sim_ms",
     "unconverged_steps",
+    "stalled_steps",
     "assembly_ms",
     "factorisation_ms",
     "line_search_ms",
 ];
+
+/// The columns of `stats.csv`, in order, for a simulation whose energy
+/// breakdown has the entries `energy_names` (`kinetic`, then one per energy
+/// term of the scene: [`crate::sim::Simulation::energy_names`]).
+///
+/// `frame`: output frame index (frame 0 is the initial state); `time`: its
+/// simulated time, s; `newton_iters`, `linear_solves`, `backtracks`: summed
+/// over the frame's steps (0 for frame 0); then one column per energy entry
+/// (`kinetic`, `elastic`, and `gravity`, `barrier`, ... for the effects the
+/// scene has) and `total_energy`, at the frame's end; `com_x`, `com_y`,
+/// `com_z`: centre of mass (`com_z` is 0 in 2D); `min_height`: lowest vertex
+/// height above the ground (empty without a ground); `min_volume_ratio`:
+/// smallest `J = det F` over the elements; `sim_ms`: wall time spent
+/// simulating the frame; `unconverged_steps`: steps that hit the iteration
+/// cap; `stalled_steps`: steps whose line search stalled before the
+/// tolerance; `assembly_ms`, `factorisation_ms`, `line_search_ms`: the wall
+/// time of each solver phase.
+pub fn stats_columns(energy_names: &[&str]) -> Vec<String> {
+    LEADING_COLUMNS
+        .iter()
+        .chain(energy_names)
+        .chain(TRAILING_COLUMNS)
+        .map(|c| (*c).to_owned())
+        .collect()
+}
 
 /// Streams frame statistics to a CSV file.
 #[derive(Debug)]
 pub struct StatsWriter {
     file: File,
     path: PathBuf,
+    energy_names: Vec<String>,
 }
 
 impl StatsWriter {
-    /// Creates the file and writes the header.
-    pub fn create(path: &Path) -> Result<Self, OutputError> {
+    /// Creates the file and writes the header, with one energy column per
+    /// entry of `energy_names` (see [`stats_columns`]).
+    pub fn create(path: &Path, energy_names: &[&str]) -> Result<Self, OutputError> {
         let file = File::create(path).map_err(OutputError::io("create", path))?;
         let mut writer = Self {
             file,
             path: path.to_owned(),
+            energy_names: energy_names.iter().map(|n| (*n).to_owned()).collect(),
         };
-        writer.write_line(&(STATS_COLUMNS.join(",") + "\n"))?;
+        writer.write_line(&(stats_columns(energy_names).join(",") + "\n"))?;
         Ok(writer)
     }
 
@@ -75,27 +93,31 @@ impl StatsWriter {
                 0.0
             }
         };
-        let e = &stats.energy;
-        let mut row = String::new();
+        let mut row = format!(
+            "{frame},{},{},{},{}",
+            stats.time, stats.iterations, stats.linear_solves, stats.backtracks
+        );
+        for name in &self.energy_names {
+            // An entry the frame lacks would be a programming error; an empty
+            // cell keeps the columns aligned.
+            match stats.energy.get(name) {
+                Some(e) => write!(row, ",{e}"),
+                None => write!(row, ","),
+            }
+            .expect("formatting into a String cannot fail");
+        }
         let min_height = stats.min_height.map(|h| h.to_string()).unwrap_or_default();
         write!(
             row,
-            "{frame},{},{},{},{},{},{},{},{},{},{},{},{},{min_height},{},{:.3},{},{:.3},{:.3},{:.3}",
-            stats.time,
-            stats.iterations,
-            stats.linear_solves,
-            stats.backtracks,
-            e.kinetic,
-            e.elastic,
-            e.gravity,
-            e.barrier,
-            e.total(),
+            ",{},{},{},{},{min_height},{},{:.3},{},{},{:.3},{:.3},{:.3}",
+            stats.energy.total(),
             com(0),
             com(1),
             com(2),
             stats.min_volume_ratio,
             ms(stats.wall_time),
             stats.unconverged_steps,
+            stats.stalled_steps,
             ms(stats.times.assembly),
             ms(stats.times.factorisation),
             ms(stats.times.line_search),
@@ -119,7 +141,8 @@ impl StatsWriter {
 mod tests {
     use super::*;
     use crate::math::Vector;
-    use crate::sim::{EnergyBreakdown, PhaseTimes};
+    use crate::sim::EnergyBreakdown;
+    use crate::solver::PhaseTimes;
     use std::time::Duration;
 
     fn stats<const D: usize>(min_height: Option<f64>) -> FrameStats<D> {
@@ -129,11 +152,10 @@ mod tests {
             linear_solves: 7,
             backtracks: 1,
             unconverged_steps: 0,
+            stalled_steps: 2,
             energy: EnergyBreakdown {
                 kinetic: 1.0,
-                elastic: 0.25,
-                gravity: -2.0,
-                barrier: 0.125,
+                potentials: vec![("elastic", 0.25), ("gravity", -2.0), ("barrier", 0.125)],
             },
             centre_of_mass: Vector::<D>::from_fn(|i, _| i as f64 + 0.5),
             min_height,
@@ -147,21 +169,26 @@ mod tests {
     fn rows_have_every_column_and_are_on_disk_at_once() {
         let tmp = tempfile::tempdir().unwrap();
         let path = tmp.path().join("stats.csv");
-        let mut writer = StatsWriter::create(&path).unwrap();
+        let names = ["kinetic", "elastic", "gravity", "barrier"];
+        let columns = stats_columns(&names);
+        let mut writer = StatsWriter::create(&path, &names).unwrap();
         writer.write_frame(3, &stats::<2>(None)).unwrap();
         // Read while the writer is still open: the row must already be there.
         let text = std::fs::read_to_string(&path).unwrap();
         let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines[0], STATS_COLUMNS.join(","));
+        assert_eq!(lines[0], columns.join(","));
         let cells: Vec<&str> = lines[1].split(',').collect();
-        assert_eq!(cells.len(), STATS_COLUMNS.len());
-        let column = |name: &str| cells[STATS_COLUMNS.iter().position(|c| *c == name).unwrap()];
+        assert_eq!(cells.len(), columns.len());
+        let column = |name: &str| cells[columns.iter().position(|c| c == name).unwrap()];
         assert_eq!(column("frame"), "3");
         assert_eq!(column("total_energy"), "-0.625");
         assert_eq!(column("com_y"), "1.5");
         assert_eq!(column("com_z"), "0");
         assert_eq!(column("min_height"), "");
         assert_eq!(column("sim_ms"), "1.500");
+        assert_eq!(column("elastic"), "0.25");
+        assert_eq!(column("barrier"), "0.125");
+        assert_eq!(column("stalled_steps"), "2");
         writer.write_frame(4, &stats::<3>(Some(0.25))).unwrap();
         let text = std::fs::read_to_string(&path).unwrap();
         let row: Vec<&str> = text.lines().nth(2).unwrap().split(',').collect();

@@ -5,6 +5,8 @@
 //! [`RawScene::resolved`](super::Scene::resolved_toml) writes the filled-in
 //! form back so a run can be reproduced exactly.
 
+use crate::integrator::IntegratorKind;
+use crate::material::MaterialModel;
 use serde::{Deserialize, Serialize};
 
 /// The whole scene file.
@@ -49,21 +51,11 @@ pub(crate) struct RawMesh {
     pub velocity: Option<Vec<f64>>,
 }
 
-/// Material models.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub(crate) enum Model {
-    /// St. Venant-Kirchhoff.
-    Stvk,
-    /// Neo-Hookean.
-    NeoHookean,
-}
-
 /// `[material]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
-    pub model: Model,
+    pub model: MaterialModel,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub young: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -90,6 +82,8 @@ pub(crate) struct RawTime {
     pub frames: Option<u64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<IntegratorKind>,
 }
 
 /// Solver methods.

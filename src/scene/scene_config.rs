@@ -1,16 +1,18 @@
 //! The validated scene: typed settings with every default filled in.
 
 use super::raw_scene::{
-    FieldName, Generator, Method, Model, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
+    FieldName, Generator, Method, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
     RawRender, RawScene, RawSolver, RawTime,
 };
 use super::scene_document::SceneDocument;
 use super::{SceneError, SceneOverride, SceneSource};
-use crate::material::{LameParameters, Material, NeoHookean, StVenantKirchhoff, YoungPoisson};
+use crate::energy::ElementField;
+use crate::integrator::IntegratorKind;
+use crate::material::{LameParameters, Material, YoungPoisson};
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::{Mesh, MeshError};
 use crate::render::Camera;
-use crate::sim::{Effects, ElementField, Ground, PinRegion, SimulationSettings};
+use crate::sim::{Effects, Ground, PinRegion, SimulationSettings};
 use crate::solver::{SolverMethod, SolverSettings};
 
 /// Default output frames per second.
@@ -80,19 +82,16 @@ impl<const D: usize> BoxMesh<D> {
 /// The material and its density.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaterialConfig {
-    /// Model and Lame parameters.
+    /// The material model and its constants.
     pub material: Material,
     /// Mass per unit rest volume (area in 2D).
     pub density: f64,
 }
 
 impl MaterialConfig {
-    /// The model's scene-file name (`stvk` or `neo-hookean`).
+    /// The model's scene-file name (`stvk`, `neo-hookean`, ...).
     pub fn model_name(&self) -> &'static str {
-        match self.material {
-            Material::StVenantKirchhoff(_) => "stvk",
-            Material::NeoHookean(_) => "neo-hookean",
-        }
+        self.material.model().name()
     }
 }
 
@@ -108,6 +107,8 @@ pub struct TimeConfig {
     /// Number of output frames; frame `i` is the state at time `i / fps`
     /// (frame 0 is the initial state).
     pub frames: usize,
+    /// The time integrator (default: backward Euler).
+    pub integrator: IntegratorKind,
 }
 
 /// What colours the rendered triangles.
@@ -197,6 +198,7 @@ impl<const D: usize> SceneConfig<D> {
     pub fn simulation_settings(&self) -> SimulationSettings {
         SimulationSettings {
             dt: self.time.dt,
+            integrator: self.time.integrator,
             solver: self.solver,
         }
     }
@@ -495,10 +497,7 @@ impl Validator<'_, '_> {
             }
         };
         let density = self.positive("material.density", raw.density.unwrap_or(DEFAULT_DENSITY))?;
-        let material = match raw.model {
-            Model::Stvk => Material::StVenantKirchhoff(StVenantKirchhoff { lame }),
-            Model::NeoHookean => Material::NeoHookean(NeoHookean { lame }),
-        };
+        let material = raw.model.with_lame(lame);
         let resolved = RawMaterial {
             density: Some(density),
             ..raw.clone()
@@ -554,12 +553,14 @@ impl Validator<'_, '_> {
             (None, None) => DEFAULT_FRAMES,
         };
         let dt = 1.0 / (fps * substeps as f64);
+        let integrator = raw.integrator.unwrap_or_default();
         let resolved = RawTime {
             fps: Some(fps),
             substeps: Some(substeps as u64),
             dt: None,
             frames: Some(frames as u64),
             duration: None,
+            integrator: Some(integrator),
         };
         Ok((
             TimeConfig {
@@ -567,6 +568,7 @@ impl Validator<'_, '_> {
                 substeps,
                 dt,
                 frames,
+                integrator,
             },
             resolved,
         ))

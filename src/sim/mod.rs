@@ -1,6 +1,8 @@
-//! Time stepping: backward Euler posed as an incremental-potential minimisation.
+//! Time stepping: the simulation state, its energy terms and integrator, advanced step by step and measured per frame.
 //!
-//! Each step solves (the report's `argmin`)
+//! Each step minimises the incremental potential of the scene's time
+//! integrator (see [`crate::integrator`]); for backward Euler (the report's
+//! `argmin`)
 //!
 //! ```text
 //! x_{n+1} = argmin_x  1/2 |x - x_pred|_M^2 + dt^2 U(x),    x_pred = x_n + dt v_n,
@@ -11,11 +13,43 @@
 //! gravity, the ground barrier). Its stationarity condition
 //! `M (x - x_pred) / dt^2 = -grad U(x)` is exactly backward Euler. Pinned
 //! vertices are removed from the unknowns and stay at their rest positions.
+//!
+//! Files: `simulation.rs` (the state and its measures), `simulation_setup.rs`
+//! (building it and its list of terms from the scene's effects),
+//! `stepping.rs` (one step, one frame), `stats.rs` (what a step reports).
 
 mod effects;
+mod sim_error;
 mod simulation;
+mod simulation_setup;
 mod stats;
+mod stepping;
 
 pub use effects::{Effects, Ground, PinRegion};
-pub use simulation::{SimError, Simulation, SimulationSettings};
-pub use stats::{ElementField, EnergyBreakdown, FrameStats, PhaseTimes, SolverStats, StepStats};
+pub use sim_error::SimError;
+pub use simulation::Simulation;
+pub use stats::{EnergyBreakdown, FrameStats, StepStats};
+
+use crate::integrator::IntegratorKind;
+use crate::solver::SolverSettings;
+
+/// Settings of the time stepping.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimulationSettings {
+    /// Length of one (sub)step, in seconds (default: 1/300).
+    pub dt: f64,
+    /// The time integrator (default: backward Euler).
+    pub integrator: IntegratorKind,
+    /// Nonlinear solver settings.
+    pub solver: SolverSettings,
+}
+
+impl Default for SimulationSettings {
+    fn default() -> Self {
+        Self {
+            dt: 1.0 / 300.0,
+            integrator: IntegratorKind::default(),
+            solver: SolverSettings::default(),
+        }
+    }
+}

@@ -1,62 +1,38 @@
-//! Statistics the time stepper returns to its caller.
+//! Statistics the time stepper returns to its caller: energies by term, solver work and state measures.
 
 use crate::math::Vector;
+use crate::solver::{PhaseTimes, SolverStats};
 use std::time::Duration;
 
-/// Wall time spent in each phase of the solver.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct PhaseTimes {
-    /// Gradient and Hessian assembly, including PSD projection.
-    pub assembly: Duration,
-    /// Sparse Cholesky (numeric) factorisation and solve.
-    pub factorisation: Duration,
-    /// Line search (step capping, energy evaluations).
-    pub line_search: Duration,
-}
-
-impl std::ops::AddAssign for PhaseTimes {
-    fn add_assign(&mut self, other: Self) {
-        self.assembly += other.assembly;
-        self.factorisation += other.factorisation;
-        self.line_search += other.line_search;
-    }
-}
-
-/// Physical energies of a state (not the incremental potential).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+/// Physical energies of a state (not the incremental potential): the kinetic
+/// energy and the value of each potential term the scene has, by the term's
+/// name, in the simulation's term order.
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct EnergyBreakdown {
     /// Kinetic energy `1/2 v^T M v`.
     pub kinetic: f64,
-    /// Elastic strain energy.
-    pub elastic: f64,
-    /// Gravitational potential energy `-sum m_i g . x_i` (0 without gravity).
-    pub gravity: f64,
-    /// Ground barrier energy (0 without a ground).
-    pub barrier: f64,
+    /// `(name, value)` of each potential term ("elastic", "gravity", "barrier", ...).
+    pub potentials: Vec<(&'static str, f64)>,
 }
 
 impl EnergyBreakdown {
     /// Sum of all terms.
     pub fn total(&self) -> f64 {
-        self.kinetic + self.elastic + self.gravity + self.barrier
+        // Left to right from the kinetic energy, like a hand-written sum.
+        self.potentials
+            .iter()
+            .fold(self.kinetic, |sum, (_, e)| sum + e)
     }
-}
 
-/// What the nonlinear solver did in one time step.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct SolverStats {
-    /// Newton (or gradient-descent) iterations.
-    pub iterations: usize,
-    /// Sparse linear solves.
-    pub linear_solves: usize,
-    /// Line-search backtracks (step halvings).
-    pub backtracks: usize,
-    /// Whether the tolerance was met before the iteration cap.
-    pub converged: bool,
-    /// Final `|dx|_inf / dt` of the last iteration.
-    pub residual: f64,
-    /// Wall time per phase.
-    pub times: PhaseTimes,
+    /// Every entry as `(name, value)`, `kinetic` first.
+    pub fn entries(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        std::iter::once(("kinetic", self.kinetic)).chain(self.potentials.iter().copied())
+    }
+
+    /// The value of the entry called `name` (`kinetic` or a term's name).
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.entries().find(|(n, _)| *n == name).map(|(_, e)| e)
+    }
 }
 
 /// What one time step did, and the state it reached.
@@ -89,6 +65,9 @@ pub struct FrameStats<const D: usize> {
     pub backtracks: usize,
     /// Substeps that hit the iteration cap without meeting the tolerance.
     pub unconverged_steps: usize,
+    /// Substeps whose line search stalled (found no decrease) before meeting
+    /// the tolerance.
+    pub stalled_steps: usize,
     /// Energies at the end of the frame.
     pub energy: EnergyBreakdown,
     /// Centre of mass.
@@ -101,16 +80,4 @@ pub struct FrameStats<const D: usize> {
     pub times: PhaseTimes,
     /// Total wall time spent simulating the frame.
     pub wall_time: Duration,
-}
-
-/// A per-element scalar for colouring and analysis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ElementField {
-    /// Strain-energy density `Psi(F)`.
-    #[default]
-    EnergyDensity,
-    /// Von Mises equivalent of the Cauchy stress.
-    VonMises,
-    /// Volume ratio `J = det F`.
-    VolumeRatio,
 }

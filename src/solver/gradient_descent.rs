@@ -6,9 +6,8 @@
 //! is that a step is shortened when it would reach the ground or invert an
 //! element, so that the energy stays defined.
 
-use super::{Objective, SolveError};
+use super::{Objective, SolveError, SolverStats};
 use crate::math::Vector;
-use crate::sim::SolverStats;
 use std::time::Instant;
 
 /// Minimises `objective` from `x` in place by fixed-step gradient descent.

@@ -36,14 +36,16 @@ impl Default for SolverSettings {
 }
 
 mod gradient_descent;
-mod hessian;
 mod newton;
 mod objective;
+mod solver_stats;
 
 pub use gradient_descent::gradient_descent;
-pub use hessian::{FactorisationError, SparseHessian};
 pub use newton::newton;
 pub use objective::Objective;
+pub use solver_stats::{PhaseTimes, SolverStats};
+
+use crate::assembly::FactorisationError;
 
 /// Why a step's minimisation could not be carried out.
 #[derive(Debug, Clone, thiserror::Error)]

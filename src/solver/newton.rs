@@ -3,16 +3,19 @@
 //! Each iteration assembles `g = grad E(x)` and the PSD-projected Hessian `H`,
 //! solves `H dx = -g` by sparse Cholesky, takes the step, and stops when
 //! `|dx|_inf / dt < tol` (a velocity, so the tolerance does not depend on the
-//! time step). The step starts at `t = min(1, t_max)`, where `t_max`
+//! time step). A step whose line search finds no decrease before that is
+//! reported as stalled ([`SolverStats::stalled`]), not as converged.
+//!
+//! The line search starts at `t = min(1, t_max)`, where `t_max`
 //! is the largest step every term allows (no vertex reaches the ground, no
 //! Neo-Hookean element inverts), and halves `t` until the Armijo condition
 //! `E(x + t dx) <= E(x) + c t g.dx` holds (`c = 1e-4`). Energy values carry
 //! round-off of order `eps |E|`, so the test allows that much slack; without it
 //! a converging solve could stall a few ulps short of the tolerance.
 
-use super::{Objective, SolveError, SparseHessian};
+use super::{Objective, SolveError, SolverStats};
+use crate::assembly::SparseHessian;
 use crate::math::Vector;
-use crate::sim::SolverStats;
 use std::time::Instant;
 
 /// Armijo sufficient-decrease constant.
@@ -91,8 +94,11 @@ pub fn newton<const D: usize>(
             break;
         }
         if !accepted {
-            // No decrease is possible along a descent direction: the state is
-            // at the minimum to working precision. Stop without moving.
+            // No decrease is possible along a descent direction before the
+            // tolerance was met: the line search stalled (round-off at the
+            // minimum, or a feasibility cap that leaves no room). Stop without
+            // moving and report it.
+            stats.stalled = true;
             break;
         }
     }

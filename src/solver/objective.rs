@@ -1,8 +1,8 @@
 //! The incremental potential as a weighted sum of energy terms.
 
+use crate::assembly::SparseHessian;
 use crate::energy::EnergyTerm;
 use crate::math::Vector;
-use crate::solver::SparseHessian;
 
 /// `E(x) = sum_k w_k U_k(x)`: the terms a scene asks for with their weights
 /// (1 for inertia, `dt^2` for the potentials).

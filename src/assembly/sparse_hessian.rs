@@ -1,26 +1,17 @@
-//! The global sparse Hessian over the free degrees of freedom, and its Cholesky solve.
+//! The global sparse Hessian over the free degrees of freedom: pattern, element slots and the deterministic gather.
 //!
 //! The sparsity pattern (vertex pairs that share an element, and the diagonal
 //! blocks) is fixed by the mesh, so it is built once together with the
-//! symbolic Cholesky factorisation (faer, AMD ordering); each Newton iteration
+//! symbolic Cholesky factorisation ([`SparseCholesky`]); each Newton iteration
 //! only refills the values and refactors numerically. Only the lower triangle
 //! is stored. Pinned vertices are eliminated: they own no rows or columns.
-//!
-//! Assembly is deterministic in parallel: element Hessians are written into
-//! per-element slots, and every stored entry then sums its contributions from
-//! those slots in a precomputed order (a "gather"), so no two threads ever add
-//! into the same number and the order of additions never depends on the
-//! thread count.
+//! See the [module documentation](super) for the gather and for how the
+//! pattern grows for terms that couple vertices sharing no element.
 
+use super::{FactorisationError, SparseCholesky};
 use crate::math::{Matrix, Vector};
 use crate::mesh::Mesh;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
-};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
 use rayon::prelude::*;
 
 /// Entries per rayon task in the gather.
@@ -28,11 +19,6 @@ const ENTRIES_PER_TASK: usize = 4096;
 
 /// Marker for an upper-triangle entry of a diagonal block (not stored).
 const NOT_STORED: usize = usize::MAX;
-
-/// The factorisation failed: the matrix is not numerically positive definite.
-#[derive(Debug, Clone, thiserror::Error)]
-#[error("sparse Cholesky factorisation failed: {0}")]
-pub struct FactorisationError(pub String);
 
 /// A symmetric sparse matrix over the free degrees of freedom of a mesh.
 pub struct SparseHessian<const D: usize> {
@@ -49,9 +35,7 @@ pub struct SparseHessian<const D: usize> {
     /// For each stored value, its sources in `element_buffer` (CSR).
     gather_offsets: Vec<usize>,
     gather_sources: Vec<usize>,
-    symbolic: SymbolicCholesky<usize>,
-    factor_values: Vec<f64>,
-    workspace: MemBuffer,
+    cholesky: SparseCholesky,
 }
 
 impl<const D: usize> SparseHessian<D> {
@@ -139,20 +123,7 @@ impl<const D: usize> SparseHessian<D> {
             .map(|(_, source)| source)
             .collect();
 
-        let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, &col_ptr, None, &row_idx);
-        let symbolic = factorize_symbolic_cholesky(
-            pattern,
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
-        )
-        .map_err(|e| FactorisationError(format!("{e:?}")))?;
-        let factor_values = vec![0.0; symbolic.len_val()];
-        let workspace = MemBuffer::new(
-            symbolic
-                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
-                .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
-        );
+        let cholesky = SparseCholesky::analyse(dofs, &col_ptr, &row_idx)?;
         let values = vec![0.0; row_idx.len()];
         Ok(Self {
             free_index,
@@ -164,9 +135,7 @@ impl<const D: usize> SparseHessian<D> {
             element_buffer: vec![0.0; mesh.element_count() * size * size],
             gather_offsets,
             gather_sources,
-            symbolic,
-            factor_values,
-            workspace,
+            cholesky,
         })
     }
 
@@ -272,27 +241,6 @@ impl<const D: usize> SparseHessian<D> {
             ),
             &self.values,
         );
-        let stack = MemStack::new(&mut self.workspace);
-        let llt = self
-            .symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut self.factor_values,
-                matrix,
-                Side::Lower,
-                LltRegularization::default(),
-                Par::Seq,
-                stack,
-                Default::default(),
-            )
-            .map_err(|e| FactorisationError(format!("{e:?}")))?;
-        let stack = MemStack::new(&mut self.workspace);
-        let n = rhs.len();
-        llt.solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, n, 1),
-            Par::Seq,
-            stack,
-        );
-        Ok(())
+        self.cholesky.factor_and_solve(matrix, rhs)
     }
 }

@@ -1,0 +1,85 @@
+//! Sparse Cholesky `H = L L^T` with faer: one symbolic analysis per pattern, a numeric refactorisation per Newton iteration.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par, Side};
+
+/// The factorisation failed: the pattern could not be analysed, or the
+/// matrix is not numerically positive definite.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("sparse Cholesky factorisation failed: {0}")]
+pub struct FactorisationError(pub String);
+
+/// The symbolic factorisation of a lower-triangle pattern, with the storage
+/// for its numeric factor and the solver's workspace.
+pub struct SparseCholesky {
+    symbolic: SymbolicCholesky<usize>,
+    factor_values: Vec<f64>,
+    workspace: MemBuffer,
+}
+
+impl SparseCholesky {
+    /// Analyses the `dofs x dofs` lower-triangle pattern `(col_ptr, row_idx)`
+    /// (AMD ordering).
+    pub fn analyse(
+        dofs: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+    ) -> Result<Self, FactorisationError> {
+        let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx);
+        let symbolic = factorize_symbolic_cholesky(
+            pattern,
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        let factor_values = vec![0.0; symbolic.len_val()];
+        let workspace = MemBuffer::new(
+            symbolic
+                .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
+                .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
+        );
+        Ok(Self {
+            symbolic,
+            factor_values,
+            workspace,
+        })
+    }
+
+    /// Factorises `matrix` (same pattern as analysed) and solves
+    /// `matrix x = rhs` in place. Sequential, so results do not depend on the
+    /// thread count.
+    pub fn factor_and_solve(
+        &mut self,
+        matrix: SparseColMatRef<'_, usize, f64>,
+        rhs: &mut [f64],
+    ) -> Result<(), FactorisationError> {
+        let stack = MemStack::new(&mut self.workspace);
+        let llt = self
+            .symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut self.factor_values,
+                matrix,
+                Side::Lower,
+                LltRegularization::default(),
+                Par::Seq,
+                stack,
+                Default::default(),
+            )
+            .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        let stack = MemStack::new(&mut self.workspace);
+        let n = rhs.len();
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            Par::Seq,
+            stack,
+        );
+        Ok(())
+    }
+}

@@ -1,0 +1,142 @@
+//! Hyperelastic materials: the material trait, one file per material, and the one place where scene names map to materials.
+//!
+//! A hyperelastic material is a strain-energy density `Psi(F)` per unit rest
+//! volume. Its first Piola-Kirchhoff stress is `P = dPsi/dF` and the element
+//! Hessian needs the fourth-order tensor `dP/dF`
+//! ([`HyperelasticMaterial`]). Each material's file writes its own formulas
+//! out.
+//!
+//! # Adding a material
+//!
+//! 1. A new file with a parameter struct implementing [`HyperelasticMaterial`]
+//!    for every `D` (energy, stress, stress derivative, whether it forbids
+//!    inversion, the plane-strain `sigma_zz`).
+//! 2. In this file: one arm in [`Material`], one in [`MaterialModel`] (its
+//!    scene name), and one in each of the `match`es below and in
+//!    `with_material!` (the static dispatch the elasticity term uses).
+//! 3. A finite-difference check in `tests/derivatives.rs` (its
+//!    `all_materials` list).
+//!
+//! The trait asks for no particular parameters: a material whose constants
+//! are not a Lame pair fits as well, and [`Material::parameters`] reports
+//! whatever constants a material has.
+
+mod lame_parameters;
+mod neo_hookean;
+mod st_venant_kirchhoff;
+
+pub use lame_parameters::{LameParameters, YoungPoisson};
+pub use neo_hookean::NeoHookean;
+pub use st_venant_kirchhoff::StVenantKirchhoff;
+
+use crate::math::{Matrix, StressDerivative};
+use serde::{Deserialize, Serialize};
+
+/// A hyperelastic material in `D` dimensions.
+pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
+    /// Strain-energy density `Psi(F)` per unit rest volume (`+inf` where undefined).
+    fn energy_density(&self, f: &Matrix<D>) -> f64;
+    /// First Piola-Kirchhoff stress `P = dPsi/dF`.
+    fn first_piola(&self, f: &Matrix<D>) -> Matrix<D>;
+    /// `dP/dF`, as `D x D` blocks: `result[k][l] = dP/dF_kl`.
+    fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D>;
+    /// Whether the energy is infinite for `det F <= 0` (the line search must
+    /// then keep every element uninverted).
+    fn forbids_inversion(&self) -> bool;
+    /// The out-of-plane Cauchy stress `sigma_zz` of a 2D body read as plane
+    /// strain. Every 2D energy here is its 3D form restricted to
+    /// `F = [[F_2D, 0], [0, 1]]`, so the in-plane stresses agree with 3D and
+    /// `sigma_zz` is the stress that holds `F_zz = 1`. Meaningful for `D = 2`.
+    fn plane_strain_normal_stress(&self, f: &Matrix<D>) -> f64;
+}
+
+/// The unit matrix `e_k e_l^T`, the direction of `dF` in `dP/dF_kl`.
+fn unit<const D: usize>(k: usize, l: usize) -> Matrix<D> {
+    let mut m = Matrix::<D>::zeros();
+    m[(k, l)] = 1.0;
+    m
+}
+
+/// The materials a scene can choose, as one closed set.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Material {
+    /// St. Venant-Kirchhoff.
+    StVenantKirchhoff(StVenantKirchhoff),
+    /// Neo-Hookean.
+    NeoHookean(NeoHookean),
+}
+
+/// A material model by its scene-file name (`material.model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MaterialModel {
+    /// `stvk`: St. Venant-Kirchhoff.
+    #[serde(rename = "stvk")]
+    StVenantKirchhoff,
+    /// `neo-hookean`: Neo-Hookean.
+    NeoHookean,
+}
+
+impl MaterialModel {
+    /// Every model, in the order the README lists them.
+    pub const ALL: [MaterialModel; 2] =
+        [MaterialModel::StVenantKirchhoff, MaterialModel::NeoHookean];
+
+    /// The scene-file name.
+    pub fn name(self) -> &'static str {
+        match self {
+            MaterialModel::StVenantKirchhoff => "stvk",
+            MaterialModel::NeoHookean => "neo-hookean",
+        }
+    }
+
+    /// The material of this model with Lame parameters `lame`.
+    pub fn with_lame(self, lame: LameParameters) -> Material {
+        match self {
+            MaterialModel::StVenantKirchhoff => {
+                Material::StVenantKirchhoff(StVenantKirchhoff { lame })
+            }
+            MaterialModel::NeoHookean => Material::NeoHookean(NeoHookean { lame }),
+        }
+    }
+}
+
+impl Material {
+    /// The model this material is an instance of.
+    pub fn model(&self) -> MaterialModel {
+        match self {
+            Material::StVenantKirchhoff(_) => MaterialModel::StVenantKirchhoff,
+            Material::NeoHookean(_) => MaterialModel::NeoHookean,
+        }
+    }
+
+    /// The constant called `name` (e.g. `mu`), if the material has one.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters()
+            .into_iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, value)| value)
+    }
+
+    /// The material's constants as `(name, value)` pairs, for summaries.
+    pub fn parameters(&self) -> Vec<(&'static str, f64)> {
+        match self {
+            Material::StVenantKirchhoff(StVenantKirchhoff { lame })
+            | Material::NeoHookean(NeoHookean { lame }) => {
+                vec![("mu", lame.mu), ("lambda", lame.lambda)]
+            }
+        }
+    }
+}
+
+/// Calls `$body` with `$m` bound to the concrete material inside a
+/// [`Material`] (static dispatch: the hot loops stay monomorphic).
+macro_rules! with_material {
+    ($material:expr, $m:ident => $body:expr) => {
+        match $material {
+            $crate::material::Material::StVenantKirchhoff($m) => $body,
+            $crate::material::Material::NeoHookean($m) => $body,
+        }
+    };
+}
+pub(crate) use with_material;

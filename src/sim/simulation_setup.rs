@@ -1,0 +1,171 @@
+//! Building a simulation: checking the settings, eliminating pinned vertices, and making the list of energy terms the scene's effects ask for.
+//!
+//! Elasticity is always a term; gravity and the ground barrier exist only
+//! when the scene asks for them (an absent effect has no term, so it costs
+//! nothing). Pinned vertices are eliminated from the unknowns here, once.
+
+use super::{Effects, SimError, Simulation, SimulationSettings};
+use crate::assembly::SparseHessian;
+use crate::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
+use crate::material::Material;
+use crate::math::{UP_AXIS, Vector};
+use crate::mesh::Mesh;
+use crate::solver::SolverMethod;
+use std::sync::Arc;
+
+fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
+    SimError::InvalidSetting {
+        key,
+        reason: reason.into(),
+    }
+}
+
+impl<const D: usize> Simulation<D> {
+    /// Builds a simulation of `mesh` made of `material` with `density` (mass per
+    /// unit rest volume), starting at rest positions with `initial_velocity`.
+    pub fn new(
+        mesh: Mesh<D>,
+        material: Material,
+        density: f64,
+        effects: Effects<D>,
+        settings: SimulationSettings,
+        initial_velocity: Vector<D>,
+    ) -> Result<Self, SimError> {
+        if !(density > 0.0 && density.is_finite()) {
+            return Err(invalid(
+                "density",
+                format!("must be positive and finite, got {density}"),
+            ));
+        }
+        if !(settings.dt > 0.0 && settings.dt.is_finite()) {
+            return Err(invalid(
+                "dt",
+                format!("must be positive and finite, got {}", settings.dt),
+            ));
+        }
+        if !(settings.solver.tolerance > 0.0) {
+            return Err(invalid(
+                "tolerance",
+                format!("must be positive, got {}", settings.solver.tolerance),
+            ));
+        }
+        if settings.solver.max_iterations == 0 {
+            return Err(invalid("max_iterations", "must be at least 1"));
+        }
+        if let SolverMethod::GradientDescent { step } = settings.solver.method
+            && !(step > 0.0 && step.is_finite())
+        {
+            return Err(invalid(
+                "step",
+                format!("must be positive and finite, got {step}"),
+            ));
+        }
+        let mesh = Arc::new(mesh);
+        let masses = mesh.lumped_masses(density);
+        let positions = mesh.rest_positions().to_vec();
+        let pinned = |x: &Vector<D>| {
+            effects
+                .pinned
+                .is_some_and(|r| (0..D).all(|k| x[k] >= r.min[k] && x[k] <= r.max[k]))
+        };
+        let mut free_count = 0;
+        let free_index: Vec<Option<usize>> = positions
+            .iter()
+            .map(|x| {
+                (!pinned(x)).then(|| {
+                    free_count += 1;
+                    free_count - 1
+                })
+            })
+            .collect();
+        if effects.pinned.is_some() && free_count == positions.len() {
+            return Err(invalid("pinned", "the pinned region holds no vertex"));
+        }
+        if free_count == 0 {
+            return Err(invalid(
+                "pinned",
+                "every vertex is pinned: nothing can move",
+            ));
+        }
+        let velocities: Vec<Vector<D>> = free_index
+            .iter()
+            .map(|f| {
+                if f.is_some() {
+                    initial_velocity
+                } else {
+                    Vector::<D>::zeros()
+                }
+            })
+            .collect();
+        let mut effect_terms: Vec<Box<dyn EnergyTerm<D>>> = Vec::new();
+        if let Some(g) = effects.gravity {
+            effect_terms.push(Box::new(Gravity::new(masses.clone(), g)));
+        }
+        let mut barrier_stiffness = None;
+        if let Some(ground) = effects.ground {
+            if !(ground.activation_distance > 0.0 && ground.activation_distance.is_finite()) {
+                return Err(invalid(
+                    "a",
+                    format!(
+                        "the barrier width must be positive, got {}",
+                        ground.activation_distance
+                    ),
+                ));
+            }
+            if let Some((vertex, x)) = positions
+                .iter()
+                .enumerate()
+                .find(|(_, x)| !(x[UP_AXIS] > ground.height))
+            {
+                return Err(SimError::BelowGround {
+                    vertex,
+                    height: x[UP_AXIS],
+                    ground: ground.height,
+                });
+            }
+            let stiffness = match ground.stiffness {
+                Some(kappa) if kappa > 0.0 && kappa.is_finite() => kappa,
+                Some(kappa) => {
+                    return Err(invalid(
+                        "kappa",
+                        format!("must be positive and finite, got {kappa}"),
+                    ));
+                }
+                None => GroundBarrier::default_stiffness(
+                    ground.height,
+                    ground.activation_distance,
+                    &masses,
+                    &positions,
+                    &velocities,
+                    effects.gravity,
+                ),
+            };
+            effect_terms.push(Box::new(GroundBarrier::new(
+                ground.height,
+                ground.activation_distance,
+                stiffness,
+            )));
+            barrier_stiffness = Some(stiffness);
+        }
+        let hessian =
+            SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SetupFailure {
+                reason: e.to_string(),
+            })?;
+        Ok(Self {
+            inertia: Inertia::new(masses.clone()),
+            elasticity: Elasticity::new(mesh.clone(), material),
+            effect_terms,
+            integrator: settings.integrator.build(positions.len()),
+            barrier_stiffness,
+            ground_height: effects.ground.map(|g| g.height),
+            mesh,
+            masses,
+            positions,
+            velocities,
+            time: 0.0,
+            steps: 0,
+            settings,
+            hessian,
+        })
+    }
+}
