@@ -21,8 +21,11 @@
 mod camera;
 mod colormap;
 mod export;
+mod frame_shape;
 mod gpu;
+mod gpu_resources;
 mod legend;
+mod look;
 mod mesh_view;
 mod renderer;
 mod sequence;
