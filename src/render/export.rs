@@ -1,7 +1,7 @@
 //! Output files of a run: frame names, PNG frames written atomically, and the
 //! check that the requested videos can be written.
 
-use super::video::{png_error, rgba_to_rgb, temporary_path};
+use super::image_file::{png_error, rgba_to_rgb, temporary_path};
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::fs::File;

@@ -24,6 +24,7 @@ mod export;
 mod frame_shape;
 mod gpu;
 mod gpu_resources;
+mod image_file;
 mod legend;
 mod look;
 mod mesh_view;

@@ -18,7 +18,8 @@
 
 use super::colormap::linear_to_srgb8;
 use super::export::{check_video_support, frame_file_name, write_png_atomically};
-use super::video::{self, VideoSpec, VideoWriter, temporary_path};
+use super::image_file::temporary_path;
+use super::video::{self, VideoSpec, VideoWriter};
 use super::{
     RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer, VideoFormat,
 };

@@ -13,6 +13,7 @@
 //!   Viewers treat GIF delays under 2/100 s as 1/10 s, so above 50 frames per
 //!   second the GIF keeps every n-th frame and plays at `fps / n`.
 
+use super::image_file::{png_error, rgba_to_rgb, temporary_path};
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::fs::File;
@@ -27,15 +28,6 @@ pub fn file_name(format: VideoFormat) -> &'static str {
         VideoFormat::Mp4 => "video.mp4",
         VideoFormat::Gif => "video.gif",
     }
-}
-
-/// The hidden temporary name a file is written under before it is complete.
-pub(crate) fn temporary_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.partial"))
 }
 
 /// What every video writer needs to know.
@@ -148,31 +140,6 @@ impl VideoWriter for ApngWriter {
     fn finish(self: Box<Self>) -> Result<(), RenderError> {
         let path = self.path;
         self.writer.finish().map_err(|e| png_error(&path, e))
-    }
-}
-
-/// Copies the RGB channels of an opaque RGBA image.
-pub(crate) fn rgba_to_rgb(image: &RgbaImage, rgb: &mut Vec<u8>) {
-    rgb.clear();
-    rgb.extend(
-        image
-            .as_raw()
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]]),
-    );
-}
-
-/// A PNG encoder's error, naming the file being written.
-pub(crate) fn png_error(path: &Path, error: png::EncodingError) -> RenderError {
-    match error {
-        png::EncodingError::IoError(source) => RenderError::Io {
-            path: path.to_owned(),
-            source,
-        },
-        other => RenderError::Encode {
-            path: path.to_owned(),
-            message: other.to_string(),
-        },
     }
 }
 
@@ -425,14 +392,6 @@ mod tests {
         assert_eq!(frame_delay(0.5), (2, 1));
         let (n, d) = frame_delay(29.97);
         assert!((d as f64 / n as f64 - 29.97).abs() < 1e-9, "{n}/{d}");
-    }
-
-    #[test]
-    fn temporary_names_are_hidden_siblings() {
-        assert_eq!(
-            temporary_path(Path::new("out/video.mp4")),
-            PathBuf::from("out/.video.mp4.partial")
-        );
     }
 
     #[test]
