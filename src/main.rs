@@ -11,12 +11,52 @@ fn main() {
         // SAFETY: no other thread exists yet.
         unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
+    #[cfg(unix)]
+    exit_on_interrupt();
     let cli = Cli::parse();
     if let Err(error) = run(cli) {
         let code = error.exit_code();
         eprintln!("error: {}", chain(&anyhow::Error::new(error)));
         std::process::exit(code);
     }
+}
+
+/// On SIGINT or SIGTERM: stop the encoders, remove the partial frames and
+/// videos (frames already complete stay), say so, and exit with 128 + the
+/// signal number (130, 143), the code a shell shows for a process the signal
+/// killed.
+#[cfg(unix)]
+fn exit_on_interrupt() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    use std::io::IsTerminal;
+    // Without a handler the signals keep their default action.
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            elasto::render::remove_partial_files();
+            let name = if signal == SIGINT {
+                "SIGINT"
+            } else {
+                "SIGTERM"
+            };
+            // A progress bar may hold the terminal's last line.
+            let newline = if std::io::stderr().is_terminal() {
+                "\n"
+            } else {
+                ""
+            };
+            eprintln!(
+                "{newline}error: interrupted by {name}; frames already written are kept, \
+                 partial frames and videos removed"
+            );
+            // _exit, not exit: atexit handlers (the graphics driver's) must
+            // not run while other threads may still be drawing.
+            // SAFETY: _exit has no preconditions; it ends the process at once.
+            unsafe { libc::_exit(128 + signal) };
+        }
+    });
 }
 
 /// The error and its causes on one line, as `{:#}` prints them, leaving out

@@ -1,36 +1,22 @@
 //! Output files of a run: frame names, PNG frames written atomically, and the
 //! check that the requested videos can be written.
 
-use super::video::{png_error, rgba_to_rgb, temporary_path};
+use super::image_file::{png_error, rgba_to_rgb};
+use super::mp4_writer::check_h264;
+use super::partial_file::PartialFile;
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
-use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
-use std::process::{Command, Stdio};
 
 /// Checks, before any simulation, that the requested videos can be written:
-/// MP4 needs `ffmpeg` with libx264 on `PATH`. APNG and GIF always can.
+/// MP4 needs `ffmpeg` with libx264 on `PATH` (asked with a bounded wait) and
+/// a valid `ELASTO_FFMPEG_TIMEOUT_SECS` when set. APNG and GIF always can.
 pub fn check_video_support(videos: &[VideoFormat]) -> Result<(), RenderError> {
-    if !videos.contains(&VideoFormat::Mp4) {
-        return Ok(());
-    }
-    let output = Command::new("ffmpeg")
-        .args(["-hide_banner", "-encoders"])
-        .stdin(Stdio::null())
-        .stderr(Stdio::null())
-        .output()
-        .map_err(|e| match e.kind() {
-            std::io::ErrorKind::NotFound => RenderError::FfmpegMissing,
-            _ => RenderError::Ffmpeg {
-                path: "video.mp4".into(),
-                message: format!("cannot run ffmpeg: {e}"),
-            },
-        })?;
-    if String::from_utf8_lossy(&output.stdout).contains("libx264") {
-        Ok(())
+    if videos.contains(&VideoFormat::Mp4) {
+        check_h264()
     } else {
-        Err(RenderError::FfmpegWithoutH264)
+        Ok(())
     }
 }
 
@@ -59,35 +45,23 @@ pub(crate) fn write_png_atomically(
     image: &RgbaImage,
     rgb: &mut Vec<u8>,
 ) -> Result<(), RenderError> {
-    let temporary = temporary_path(path);
-    let result = (|| {
-        let file = File::create(&temporary).map_err(|source| RenderError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
-        let mut encoder = png::Encoder::new(
-            BufWriter::with_capacity(1 << 18, file),
-            image.width(),
-            image.height(),
-        );
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(png::Compression::Fast);
-        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-        let encode_error = |e: png::EncodingError| png_error(path, e);
-        let mut writer = encoder.write_header().map_err(encode_error)?;
-        rgba_to_rgb(image, rgb);
-        writer.write_image_data(rgb).map_err(encode_error)?;
-        writer.finish().map_err(encode_error)?;
-        std::fs::rename(&temporary, path).map_err(|source| RenderError::Io {
-            path: path.to_owned(),
-            source,
-        })
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&temporary);
-    }
-    result
+    // Dropped on an error, the partial file removes itself.
+    let partial = PartialFile::new(path)?;
+    let mut encoder = png::Encoder::new(
+        BufWriter::with_capacity(1 << 18, partial.create()?),
+        image.width(),
+        image.height(),
+    );
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    let encode_error = |e: png::EncodingError| png_error(path, e);
+    let mut writer = encoder.write_header().map_err(encode_error)?;
+    rgba_to_rgb(image, rgb);
+    writer.write_image_data(rgb).map_err(encode_error)?;
+    writer.finish().map_err(encode_error)?;
+    partial.publish()
 }
 
 #[cfg(test)]

@@ -10,6 +10,9 @@
 //! comparable from machine to machine. The device asks for the
 //! WebGL2-level downlevel limits with the adapter's own texture size limits,
 //! each clamped to what the adapter has.
+//!
+//! [`wait`] and [`check_scope`] turn the device's waits and error scopes
+//! into [`RenderError::Gpu`] naming what the renderer was doing.
 
 use super::RenderError;
 use std::sync::{Arc, Mutex};
@@ -156,5 +159,30 @@ fn backend_names(backends: wgpu::Backends) -> String {
         "none".to_owned()
     } else {
         names.join(", ")
+    }
+}
+
+/// Blocks until the GPU has finished all submitted work.
+pub(crate) fn wait(device: &wgpu::Device, during: &'static str) -> Result<(), RenderError> {
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map(|_| ())
+        .map_err(|e| RenderError::Gpu {
+            during,
+            message: e.to_string(),
+        })
+}
+
+/// Turns the error an error scope caught, if any, into a [`RenderError::Gpu`].
+pub(crate) fn check_scope(
+    scope: wgpu::ErrorScopeGuard,
+    during: &'static str,
+) -> Result<(), RenderError> {
+    match pollster::block_on(scope.pop()) {
+        None => Ok(()),
+        Some(error) => Err(RenderError::Gpu {
+            during,
+            message: error.to_string(),
+        }),
     }
 }

@@ -21,9 +21,15 @@
 mod camera;
 mod colormap;
 mod export;
+mod frame_shape;
 mod gpu;
+mod gpu_resources;
+mod image_file;
 mod legend;
+mod look;
 mod mesh_view;
+mod mp4_writer;
+mod partial_file;
 mod renderer;
 mod sequence;
 mod video;
@@ -31,6 +37,8 @@ mod video;
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
 pub use export::{check_video_support, frame_file_name, write_png};
 pub use gpu::adapter_description;
+pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
+pub use partial_file::remove_partial_files;
 pub use renderer::{FrameTimings, Renderer};
 pub use sequence::{SequenceWriter, render_sequence};
 pub use video::file_name as video_file_name;
@@ -242,6 +250,33 @@ pub enum RenderError {
     /// ffmpeg exists but cannot encode H.264.
     #[error("mp4 video needs ffmpeg with the libx264 encoder, which this ffmpeg lacks")]
     FfmpegWithoutH264,
+    /// `ELASTO_FFMPEG_TIMEOUT_SECS` is not a positive number of seconds.
+    #[error(
+        "ELASTO_FFMPEG_TIMEOUT_SECS must be a positive number of seconds (how long ffmpeg may \
+         go without progress), got `{value}`"
+    )]
+    FfmpegTimeoutSetting {
+        /// The variable's value.
+        value: String,
+    },
+    /// ffmpeg made no progress for the ffmpeg timeout and was stopped.
+    #[error(
+        "ffmpeg {what} for {} s while writing {}; it was stopped (ELASTO_FFMPEG_TIMEOUT_SECS \
+         sets this limit)",
+        timeout.as_secs_f64(),
+        path.display()
+    )]
+    FfmpegStalled {
+        /// The video being written.
+        path: PathBuf,
+        /// What ffmpeg failed to do, e.g. "read no frame".
+        what: &'static str,
+        /// The limit it exceeded.
+        timeout: std::time::Duration,
+    },
+    /// The run is being interrupted (SIGINT or SIGTERM): no new file is started.
+    #[error("interrupted")]
+    Interrupted,
     /// ffmpeg failed while writing the video.
     #[error("ffmpeg failed writing {}: {message}", path.display())]
     Ffmpeg {

@@ -14,17 +14,20 @@
 //! frames. The first error stops the run; videos are renamed to their final
 //! names only by [`SequenceWriter::finish`] after every frame and every video
 //! succeeded. A writer dropped unfinished (the simulation failed) removes its
-//! partial videos; the frames already written stay, each one complete.
+//! partial videos; the frames already written stay, each one complete. On
+//! SIGINT or SIGTERM the binary removes partial frames and videos through
+//! [`remove_partial_files`](super::remove_partial_files).
 
 use super::colormap::linear_to_srgb8;
 use super::export::{check_video_support, frame_file_name, write_png_atomically};
-use super::video::{self, VideoSpec, VideoWriter, temporary_path};
+use super::partial_file::PartialFile;
+use super::video::{self, VideoSpec, VideoWriter};
 use super::{
     RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer, VideoFormat,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use image::RgbaImage;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
@@ -45,7 +48,8 @@ pub struct SequenceWriter {
 }
 
 struct VideoThread {
-    path: PathBuf,
+    /// The video's file; removed unless published.
+    partial: Option<PartialFile>,
     sender: Option<Sender<Arc<RgbaImage>>>,
     thread: Option<JoinHandle<Result<(), RenderError>>>,
 }
@@ -103,8 +107,9 @@ impl SequenceWriter {
                 background: linear_to_srgb8(settings.background),
             };
             // A failure here drops the threads started so far, which removes their files.
-            let writer = video::open(format, &spec)?;
-            videos.push(VideoThread::spawn(path, writer));
+            let partial = PartialFile::new(&path)?;
+            let writer = video::open(format, &spec, &partial)?;
+            videos.push(VideoThread::spawn(partial, writer));
         }
 
         let workers = std::thread::available_parallelism()
@@ -272,7 +277,7 @@ impl Drop for SequenceWriter {
 }
 
 impl VideoThread {
-    fn spawn(path: PathBuf, mut writer: Box<dyn VideoWriter>) -> Self {
+    fn spawn(partial: PartialFile, mut writer: Box<dyn VideoWriter>) -> Self {
         let (sender, receiver) = bounded::<Arc<RgbaImage>>(3);
         let thread = std::thread::spawn(move || -> Result<(), RenderError> {
             for image in receiver {
@@ -281,7 +286,7 @@ impl VideoThread {
             writer.finish()
         });
         Self {
-            path,
+            partial: Some(partial),
             sender: Some(sender),
             thread: Some(thread),
         }
@@ -300,27 +305,22 @@ impl VideoThread {
 
     /// Renames the complete video to its final name.
     fn publish(mut self) -> Result<(), RenderError> {
-        let temporary = temporary_path(&self.path);
-        let result = std::fs::rename(&temporary, &self.path).map_err(|source| RenderError::Io {
-            path: self.path.clone(),
-            source,
-        });
-        // Published (or failed to): nothing left for drop to remove.
-        self.path = PathBuf::new();
-        result
+        match self.partial.take() {
+            Some(partial) => partial.publish(),
+            None => Ok(()),
+        }
     }
 }
 
 impl Drop for VideoThread {
-    /// A video not published is partial: wait for its thread, remove its file.
+    /// A video not published is partial: wait for its thread (whose writer
+    /// stops its encoder), then remove its file.
     fn drop(&mut self) {
         self.sender = None;
         if let Some(thread) = self.thread.take() {
             let _ = thread.join();
         }
-        if !self.path.as_os_str().is_empty() {
-            let _ = std::fs::remove_file(temporary_path(&self.path));
-        }
+        self.partial = None;
     }
 }
 

@@ -1,24 +1,27 @@
 //! Video writers, fed one frame at a time so nothing holds the whole run.
 //!
-//! Each writer writes to a hidden temporary file beside its final name; the
-//! export renames it only when the whole run succeeded, so a failed run never
-//! leaves a video that looks complete.
+//! Each writer writes to the hidden temporary file of a [`PartialFile`]
+//! beside its final name; the sequence writer publishes it only when the
+//! whole run succeeded, so a failed or interrupted run never leaves a video
+//! that looks complete.
 //!
 //! - APNG (`video.png`): the `png` crate, RGB, fast compression, frame delay
 //!   from the frame rate as an exact fraction where possible.
-//! - MP4 (`video.mp4`): raw RGBA frames piped to `ffmpeg`, H.264 (libx264),
-//!   yuv420p with BT.709 colours, dimensions padded to even numbers with the
-//!   background colour.
+//! - MP4 (`video.mp4`): raw RGBA frames piped to `ffmpeg`, never waiting on
+//!   it forever (see [`Mp4Writer`]).
 //! - GIF (`video.gif`): the `gif` crate, one NeuQuant palette per frame.
 //!   Viewers treat GIF delays under 2/100 s as 1/10 s, so above 50 frames per
 //!   second the GIF keeps every n-th frame and plays at `fps / n`.
 
+use super::image_file::{png_error, rgba_to_rgb};
+use super::mp4_writer::Mp4Writer;
+use super::partial_file::PartialFile;
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::fs::File;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::Arc;
 
 /// The file name a video format is written to: `video.png`, `video.mp4`, `video.gif`.
 pub fn file_name(format: VideoFormat) -> &'static str {
@@ -27,15 +30,6 @@ pub fn file_name(format: VideoFormat) -> &'static str {
         VideoFormat::Mp4 => "video.mp4",
         VideoFormat::Gif => "video.gif",
     }
-}
-
-/// The hidden temporary name a file is written under before it is complete.
-pub(crate) fn temporary_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.partial"))
 }
 
 /// What every video writer needs to know.
@@ -57,31 +51,29 @@ pub(crate) struct VideoSpec<'a> {
 /// A video being written.
 pub(crate) trait VideoWriter: Send {
     /// Appends the next frame.
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError>;
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError>;
     /// Completes the temporary file.
     fn finish(self: Box<Self>) -> Result<(), RenderError>;
 }
 
-/// Opens a writer for `format`, writing to the temporary path of `spec.path`.
+/// Opens a writer for `format`, writing to the temporary file of `partial`
+/// (whose final name is `spec.path`).
 pub(crate) fn open(
     format: VideoFormat,
     spec: &VideoSpec<'_>,
+    partial: &PartialFile,
 ) -> Result<Box<dyn VideoWriter>, RenderError> {
     Ok(match format {
-        VideoFormat::Apng => Box::new(ApngWriter::new(spec)?),
-        VideoFormat::Mp4 => Box::new(Mp4Writer::new(spec)?),
-        VideoFormat::Gif => Box::new(GifWriter::new(spec)?),
+        VideoFormat::Apng => Box::new(ApngWriter::new(spec, partial)?),
+        VideoFormat::Mp4 => Box::new(Mp4Writer::new(spec, partial)?),
+        VideoFormat::Gif => Box::new(GifWriter::new(spec, partial)?),
     })
 }
 
-fn create(path: &Path) -> Result<BufWriter<File>, RenderError> {
-    let temporary = temporary_path(path);
-    File::create(&temporary)
+fn create(partial: &PartialFile) -> Result<BufWriter<File>, RenderError> {
+    partial
+        .create()
         .map(|file| BufWriter::with_capacity(1 << 20, file))
-        .map_err(|source| RenderError::Io {
-            path: path.to_owned(),
-            source,
-        })
 }
 
 /// The frame delay `numerator / denominator` seconds closest to `1 / fps`.
@@ -112,13 +104,13 @@ struct ApngWriter {
 }
 
 impl ApngWriter {
-    fn new(spec: &VideoSpec<'_>) -> Result<Self, RenderError> {
+    fn new(spec: &VideoSpec<'_>, partial: &PartialFile) -> Result<Self, RenderError> {
         let encode_error = |e: png::EncodingError| png_error(spec.path, e);
         let frames = u32::try_from(spec.frame_count).map_err(|_| RenderError::Encode {
             path: spec.path.to_owned(),
             message: format!("{} frames are too many for APNG", spec.frame_count),
         })?;
-        let mut encoder = png::Encoder::new(create(spec.path)?, spec.width, spec.height);
+        let mut encoder = png::Encoder::new(create(partial)?, spec.width, spec.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_compression(png::Compression::Fast);
@@ -138,7 +130,7 @@ impl ApngWriter {
 }
 
 impl VideoWriter for ApngWriter {
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         rgba_to_rgb(frame, &mut self.rgb);
         self.writer
             .write_image_data(&self.rgb)
@@ -148,31 +140,6 @@ impl VideoWriter for ApngWriter {
     fn finish(self: Box<Self>) -> Result<(), RenderError> {
         let path = self.path;
         self.writer.finish().map_err(|e| png_error(&path, e))
-    }
-}
-
-/// Copies the RGB channels of an opaque RGBA image.
-pub(crate) fn rgba_to_rgb(image: &RgbaImage, rgb: &mut Vec<u8>) {
-    rgb.clear();
-    rgb.extend(
-        image
-            .as_raw()
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]]),
-    );
-}
-
-/// A PNG encoder's error, naming the file being written.
-pub(crate) fn png_error(path: &Path, error: png::EncodingError) -> RenderError {
-    match error {
-        png::EncodingError::IoError(source) => RenderError::Io {
-            path: path.to_owned(),
-            source,
-        },
-        other => RenderError::Encode {
-            path: path.to_owned(),
-            message: other.to_string(),
-        },
     }
 }
 
@@ -190,7 +157,7 @@ struct GifWriter {
 }
 
 impl GifWriter {
-    fn new(spec: &VideoSpec<'_>) -> Result<Self, RenderError> {
+    fn new(spec: &VideoSpec<'_>, partial: &PartialFile) -> Result<Self, RenderError> {
         let too_large = || RenderError::Encode {
             path: spec.path.to_owned(),
             message: format!(
@@ -202,7 +169,7 @@ impl GifWriter {
         let height = u16::try_from(spec.height).map_err(|_| too_large())?;
         let gif_error = |e: gif::EncodingError| gif_error(spec.path, e);
         let mut encoder =
-            gif::Encoder::new(create(spec.path)?, width, height, &[]).map_err(gif_error)?;
+            gif::Encoder::new(create(partial)?, width, height, &[]).map_err(gif_error)?;
         encoder
             .set_repeat(gif::Repeat::Infinite)
             .map_err(gif_error)?;
@@ -222,7 +189,7 @@ impl GifWriter {
 }
 
 impl VideoWriter for GifWriter {
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let index = self.pushed;
         self.pushed += 1;
         if !index.is_multiple_of(self.stride) {
@@ -263,157 +230,6 @@ fn gif_error(path: &Path, error: gif::EncodingError) -> RenderError {
     }
 }
 
-struct Mp4Writer {
-    path: PathBuf,
-    child: Child,
-    stdin: Option<ChildStdin>,
-    stderr: Option<std::thread::JoinHandle<String>>,
-}
-
-/// The ffmpeg arguments for `spec`, writing MP4 to `output`.
-pub(crate) fn ffmpeg_arguments(spec: &VideoSpec<'_>, output: &Path) -> Vec<String> {
-    let [r, g, b] = spec.background;
-    let mut args: Vec<String> = [
-        "-hide_banner",
-        "-loglevel",
-        "error",
-        "-nostdin",
-        "-y",
-        "-f",
-        "rawvideo",
-        "-pix_fmt",
-        "rgba",
-        "-s",
-    ]
-    .map(String::from)
-    .into();
-    args.push(format!("{}x{}", spec.width, spec.height));
-    args.push("-r".into());
-    args.push(format!("{}", spec.fps));
-    args.extend(
-        [
-            "-i", "-", "-c:v", "libx264", "-preset", "medium", "-crf", "18", "-pix_fmt", "yuv420p",
-        ]
-        .map(String::from),
-    );
-    args.push("-vf".into());
-    args.push(format!(
-        "pad=ceil(iw/2)*2:ceil(ih/2)*2:0:0:color=0x{r:02x}{g:02x}{b:02x},scale=out_color_matrix=bt709:out_range=tv"
-    ));
-    args.extend(
-        [
-            "-colorspace",
-            "bt709",
-            "-color_primaries",
-            "bt709",
-            "-color_trc",
-            "bt709",
-            "-movflags",
-            "+faststart",
-            "-f",
-            "mp4",
-        ]
-        .map(String::from),
-    );
-    args.push(output.to_string_lossy().into_owned());
-    args
-}
-
-impl Mp4Writer {
-    fn new(spec: &VideoSpec<'_>) -> Result<Self, RenderError> {
-        let temporary = temporary_path(spec.path);
-        let mut child = Command::new("ffmpeg")
-            .args(ffmpeg_arguments(spec, &temporary))
-            .stdin(Stdio::piped())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .map_err(|e| match e.kind() {
-                std::io::ErrorKind::NotFound => RenderError::FfmpegMissing,
-                _ => RenderError::Ffmpeg {
-                    path: spec.path.to_owned(),
-                    message: format!("cannot start ffmpeg: {e}"),
-                },
-            })?;
-        let stdin = child.stdin.take();
-        // Drain stderr on a thread so that a chatty ffmpeg never blocks on it.
-        let stderr = child.stderr.take().map(|mut pipe| {
-            std::thread::spawn(move || {
-                let mut text = String::new();
-                let _ = pipe.read_to_string(&mut text);
-                text
-            })
-        });
-        Ok(Self {
-            path: spec.path.to_owned(),
-            child,
-            stdin,
-            stderr,
-        })
-    }
-
-    /// Waits for ffmpeg and turns a failure into an error with its output.
-    fn wait(&mut self) -> Result<(), RenderError> {
-        self.stdin = None;
-        let status = self.child.wait().map_err(|e| RenderError::Ffmpeg {
-            path: self.path.clone(),
-            message: format!("cannot wait for ffmpeg: {e}"),
-        })?;
-        let output = self
-            .stderr
-            .take()
-            .and_then(|h| h.join().ok())
-            .unwrap_or_default();
-        if status.success() {
-            Ok(())
-        } else {
-            let output = output.trim();
-            Err(RenderError::Ffmpeg {
-                path: self.path.clone(),
-                message: if output.is_empty() {
-                    format!("{status}")
-                } else {
-                    format!("{status}: {output}")
-                },
-            })
-        }
-    }
-}
-
-impl VideoWriter for Mp4Writer {
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
-        let Some(stdin) = self.stdin.as_mut() else {
-            return Err(RenderError::Ffmpeg {
-                path: self.path.clone(),
-                message: "ffmpeg input already closed".into(),
-            });
-        };
-        if let Err(e) = stdin.write_all(frame.as_raw()) {
-            // ffmpeg quit early; its own message says why.
-            self.wait()?;
-            return Err(RenderError::Ffmpeg {
-                path: self.path.clone(),
-                message: format!("ffmpeg stopped reading frames: {e}"),
-            });
-        }
-        Ok(())
-    }
-
-    fn finish(mut self: Box<Self>) -> Result<(), RenderError> {
-        self.wait()
-    }
-}
-
-impl Drop for Mp4Writer {
-    fn drop(&mut self) {
-        // An abandoned encode: close its input and reap the process.
-        if self.stdin.take().is_some() {
-            let _ = self.child.kill();
-            let _ = self.child.wait();
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -425,37 +241,5 @@ mod tests {
         assert_eq!(frame_delay(0.5), (2, 1));
         let (n, d) = frame_delay(29.97);
         assert!((d as f64 / n as f64 - 29.97).abs() < 1e-9, "{n}/{d}");
-    }
-
-    #[test]
-    fn temporary_names_are_hidden_siblings() {
-        assert_eq!(
-            temporary_path(Path::new("out/video.mp4")),
-            PathBuf::from("out/.video.mp4.partial")
-        );
-    }
-
-    #[test]
-    fn ffmpeg_pads_to_even_sizes_in_the_background_colour() {
-        let spec = VideoSpec {
-            path: Path::new("v.mp4"),
-            width: 101,
-            height: 61,
-            frame_count: 3,
-            fps: 25.0,
-            background: [245, 245, 250],
-        };
-        let args = ffmpeg_arguments(&spec, Path::new(".v.mp4.partial"));
-        let joined = args.join(" ");
-        assert!(joined.contains("-s 101x61 -r 25 -i -"), "{joined}");
-        assert!(
-            joined.contains("pad=ceil(iw/2)*2:ceil(ih/2)*2:0:0:color=0xf5f5fa"),
-            "{joined}"
-        );
-        assert!(
-            joined.contains("-c:v libx264") && joined.contains("-pix_fmt yuv420p"),
-            "{joined}"
-        );
-        assert_eq!(args.last().unwrap(), ".v.mp4.partial");
     }
 }

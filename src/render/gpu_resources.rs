@@ -1,0 +1,369 @@
+//! [`GpuResources`]: the pipelines, buffers and render targets of one
+//! [`Renderer`](super::Renderer), and the data layouts they consume.
+//!
+//! Everything here is created once per run, sized for the mesh and the image:
+//! one uniform buffer of [`Globals`] shared by every shader, a pipeline per
+//! layer (background, ground, surface, lines), vertex buffers for the
+//! surface's triangle corners and the instanced line segments, a 4x MSAA
+//! colour target resolved to `Rgba8UnormSrgb`, a depth target, and a
+//! readback buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
+//! The uniform and vertex types are `#[repr(C)]` `bytemuck::Pod` and match
+//! the WGSL structs in `shaders/` field for field.
+
+use super::gpu::{Gpu, check_scope};
+use super::{RenderError, RenderMesh, RenderSettings};
+use bytemuck::{Pod, Zeroable};
+
+/// Format of the colour targets: shaders write linear light, the target
+/// encodes sRGB.
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Per-run uniforms (see `Globals` in the shaders). Every field is a 16-byte
+/// vector or a matrix of them, so the layout has no implicit padding.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(super) struct Globals {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub light: [f32; 4],
+    pub viewport: [f32; 4],
+    pub ground: [f32; 4],
+    pub ground_center: [f32; 4],
+    pub shadow: [f32; 4],
+    pub shadow_params: [f32; 4],
+    pub sky_top: [f32; 4],
+    pub sky_bottom: [f32; 4],
+    pub ground_light: [f32; 4],
+    pub ground_dark: [f32; 4],
+}
+
+/// One corner of a filled triangle.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(super) struct SurfaceVertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub colour: [f32; 3],
+}
+
+/// One line segment (instanced).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub(super) struct LineInstance {
+    pub start: [f32; 3],
+    pub end: [f32; 3],
+    pub colour: [f32; 4],
+    pub width: f32,
+}
+
+/// A shader module from `shaders/NAME.wgsl` with `shaders/globals.wgsl`
+/// (the uniform block every shader shares) prepended, at compile time.
+macro_rules! shader {
+    ($name:literal) => {
+        wgpu::ShaderModuleDescriptor {
+            label: Some($name),
+            source: wgpu::ShaderSource::Wgsl(std::borrow::Cow::Borrowed(concat!(
+                include_str!("../../shaders/globals.wgsl"),
+                include_str!(concat!("../../shaders/", $name, ".wgsl"))
+            ))),
+        }
+    };
+}
+
+/// The GPU objects a renderer draws with, fixed for its run.
+pub(super) struct GpuResources {
+    pub bind_group: wgpu::BindGroup,
+    pub uniforms: wgpu::Buffer,
+    pub background: wgpu::RenderPipeline,
+    /// The ground's pipeline, when the settings have a ground.
+    pub ground: Option<wgpu::RenderPipeline>,
+    pub surface: wgpu::RenderPipeline,
+    pub line: wgpu::RenderPipeline,
+    pub surface_vertices: wgpu::Buffer,
+    pub line_instances: wgpu::Buffer,
+    /// Multisampled colour target (`None` without MSAA).
+    pub msaa_view: Option<wgpu::TextureView>,
+    pub resolved: wgpu::Texture,
+    pub resolved_view: wgpu::TextureView,
+    pub depth_view: wgpu::TextureView,
+    pub readback: wgpu::Buffer,
+    pub padded_bytes_per_row: u32,
+}
+
+impl GpuResources {
+    /// Creates pipelines, buffers and targets for `mesh` at the settings'
+    /// image size, with a ground pipeline when the settings have a ground.
+    pub fn new(
+        gpu: &Gpu,
+        settings: &RenderSettings,
+        mesh: &RenderMesh,
+    ) -> Result<Self, RenderError> {
+        let device = &gpu.device;
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let (width, height) = (settings.width, settings.height);
+        let samples = gpu.sample_count;
+
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("globals uniform buffer"),
+            size: std::mem::size_of::<Globals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals bind group layout"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<Globals>() as u64),
+                },
+                count: None,
+            }],
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals bind group"),
+            layout: &bind_group_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("render pipeline layout"),
+            bind_group_layouts: &[Some(&bind_group_layout)],
+            immediate_size: 0,
+        });
+
+        let builder = PipelineBuilder {
+            device,
+            layout: &layout,
+            samples,
+        };
+        let background = builder.build(
+            "background pipeline",
+            &device.create_shader_module(shader!("background")),
+            &[],
+            None,
+            false,
+        );
+        let ground = settings.ground_height.map(|_| {
+            if mesh.dimension == 2 {
+                builder.build(
+                    "2D ground pipeline",
+                    &device.create_shader_module(shader!("ground2d")),
+                    &[],
+                    Some(wgpu::BlendState::ALPHA_BLENDING),
+                    false,
+                )
+            } else {
+                builder.build(
+                    "3D ground pipeline",
+                    &device.create_shader_module(shader!("ground3d")),
+                    &[],
+                    None,
+                    true,
+                )
+            }
+        });
+        let surface = builder.build(
+            "surface pipeline",
+            &device.create_shader_module(shader!("surface")),
+            &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<SurfaceVertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3],
+            })],
+            None,
+            true,
+        );
+        let line = builder.build(
+            "line pipeline",
+            &device.create_shader_module(shader!("line")),
+            &[Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<LineInstance>() as u64,
+                step_mode: wgpu::VertexStepMode::Instance,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
+            })],
+            Some(wgpu::BlendState::ALPHA_BLENDING),
+            true,
+        );
+
+        let buffer = |label: &'static str, size: usize, usage: wgpu::BufferUsages| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (size as u64)
+                    .max(64)
+                    .next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT),
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let vertex_usage = wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST;
+        let surface_vertices = buffer(
+            "surface vertex buffer",
+            mesh.triangles.len() * 3 * std::mem::size_of::<SurfaceVertex>(),
+            vertex_usage,
+        );
+        let line_instances = buffer(
+            "line instance buffer",
+            (mesh.edges.len() + 1) * std::mem::size_of::<LineInstance>(),
+            vertex_usage,
+        );
+
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let texture = |label: &'static str, format, sample_count, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let msaa_view = (samples > 1).then(|| {
+            texture(
+                "multisampled colour target",
+                COLOR_FORMAT,
+                samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&wgpu::TextureViewDescriptor {
+                label: Some("multisampled colour view"),
+                ..Default::default()
+            })
+        });
+        let resolved = texture(
+            "resolved colour target",
+            COLOR_FORMAT,
+            1,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let resolved_view = resolved.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("resolved colour view"),
+            ..Default::default()
+        });
+        let depth_view = texture(
+            "depth target",
+            DEPTH_FORMAT,
+            samples,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+        .create_view(&wgpu::TextureViewDescriptor {
+            label: Some("depth view"),
+            ..Default::default()
+        });
+
+        let padded_bytes_per_row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback buffer"),
+            size: padded_bytes_per_row as u64 * height as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+
+        check_scope(out_of_memory, "creating render targets")?;
+        check_scope(validation, "creating pipelines and targets")?;
+        Ok(GpuResources {
+            bind_group,
+            uniforms,
+            background,
+            ground,
+            surface,
+            line,
+            surface_vertices,
+            line_instances,
+            msaa_view,
+            resolved,
+            resolved_view,
+            depth_view,
+            readback,
+            padded_bytes_per_row,
+        })
+    }
+}
+
+struct PipelineBuilder<'a> {
+    device: &'a wgpu::Device,
+    layout: &'a wgpu::PipelineLayout,
+    samples: u32,
+}
+
+impl PipelineBuilder<'_> {
+    /// A triangle-list pipeline. Depth-tested ones test `LessEqual` and
+    /// write depth; the others (background, 2D ground) are painted in order.
+    fn build(
+        &self,
+        label: &'static str,
+        module: &wgpu::ShaderModule,
+        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+        blend: Option<wgpu::BlendState>,
+        depth_tested: bool,
+    ) -> wgpu::RenderPipeline {
+        self.device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(self.layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_tested),
+                    depth_compare: Some(if depth_tested {
+                        wgpu::CompareFunction::LessEqual
+                    } else {
+                        wgpu::CompareFunction::Always
+                    }),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState {
+                    count: self.samples,
+                    ..Default::default()
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn globals_layout_has_no_padding() {
+        assert_eq!(std::mem::size_of::<Globals>(), 64 + 11 * 16);
+        assert_eq!(std::mem::size_of::<LineInstance>(), 44);
+        assert_eq!(std::mem::size_of::<SurfaceVertex>(), 36);
+    }
+}
