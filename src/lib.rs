@@ -16,6 +16,7 @@ pub mod finite_volume;
 pub mod material;
 pub mod math;
 pub mod mesh;
+pub mod mesh_io;
 pub mod sim;
 pub mod solver;
 
