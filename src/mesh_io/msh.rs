@@ -115,7 +115,7 @@ pub(crate) fn read(
                 path: path.to_owned(),
                 format: FORMAT,
                 version: v.to_owned(),
-                hint: "save the mesh again from gmsh as version 4.1 or 2.2 (`gmsh -save -format msh41 FILE`)",
+                hint: "save the mesh again from gmsh as version 4.1 or 2.2 (`gmsh FILE -save -format msh41`)",
             });
         }
         v => {

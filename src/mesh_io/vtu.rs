@@ -83,7 +83,7 @@ pub(crate) fn read(
             .points
             .cast_into()
             .ok_or_else(|| syntax(format!("piece {p}: the points are not numbers")))?;
-        if coordinates.len() % 3 != 0 {
+        if !coordinates.len().is_multiple_of(3) {
             return Err(syntax(format!(
                 "piece {p}: {} point coordinates is not a multiple of 3",
                 coordinates.len()
