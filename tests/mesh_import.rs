@@ -632,3 +632,55 @@ fn clean_can_be_called_on_a_mesh_read_separately() {
     assert_eq!(report.reoriented, CUBE_TETRAHEDRA);
     assert!((mesh.rest_volume() - 1.0).abs() < 1e-12);
 }
+
+#[test]
+fn cut_or_corrupted_files_give_errors_never_panics() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(data("cube.node"), dir.path().join("c.node")).unwrap();
+    let mut errors = 0;
+    for file in [
+        "cube_v2_ascii.msh",
+        "cube_v2_binary.msh",
+        "cube_v41_ascii.msh",
+        "cube_v41_binary.msh",
+        "cube.mesh",
+        "cube.ele",
+        "cube.vtu",
+    ] {
+        let original = std::fs::read(data(file)).unwrap();
+        let name = if file == "cube.ele" {
+            "c.ele".to_owned()
+        } else {
+            file.to_owned()
+        };
+        let path = dir.path().join(&name);
+        let mut variants: Vec<Vec<u8>> = (0..original.len())
+            .step_by(original.len() / 150 + 1)
+            .map(|n| original[..n].to_vec())
+            .collect();
+        // Overwrite one byte at a time with digits, signs and junk.
+        for (k, at) in (0..original.len())
+            .step_by(original.len() / 150 + 1)
+            .enumerate()
+        {
+            let mut bytes = original.clone();
+            bytes[at] = b"9-x\xff\n0"[k % 6];
+            variants.push(bytes);
+        }
+        for bytes in variants {
+            std::fs::write(&path, &bytes).unwrap();
+            if let Err(err) = load_mesh::<3>(&path, &ImportOptions::default()) {
+                assert!(
+                    err.to_string().contains(&name)
+                        || matches!(err, MeshImportError::InvalidOption { .. }),
+                    "{file}: the message does not name the file: {err}"
+                );
+                errors += 1;
+            }
+        }
+    }
+    assert!(
+        errors > 1000,
+        "only {errors} of the damaged files were refused"
+    );
+}

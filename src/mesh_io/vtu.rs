@@ -45,7 +45,20 @@ pub(crate) fn read(
             expected: "`</VTKFile>`".to_owned(),
         });
     }
-    let vtk = vtkio::Vtk::parse_xml(bytes).map_err(|e| syntax(format!("invalid VTK XML: {e}")))?;
+    // vtkio slices its binary data by the sizes the file states, and panics
+    // on some corrupt ones (seen with a damaged compression header), so a
+    // panic there is turned into an error naming the file like any other.
+    let parsed = std::panic::catch_unwind(|| vtkio::Vtk::parse_xml(bytes)).map_err(|panic| {
+        let what = panic
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| panic.downcast_ref::<&str>().copied())
+            .unwrap_or("unknown failure");
+        syntax(format!(
+            "corrupt VTK data (the vtkio reader failed: {what})"
+        ))
+    })?;
+    let vtk = parsed.map_err(|e| syntax(format!("invalid VTK XML: {e}")))?;
     let pieces = match vtk.data {
         DataSet::UnstructuredGrid { pieces, .. } => pieces,
         other => {
