@@ -1,24 +1,6 @@
 //! From an imported file to a simulation mesh: transforms, duplicate
 //! vertices, orientation, degenerate elements, unreferenced vertices and the
 //! number of connected pieces.
-//!
-//! The steps, in this order:
-//! 1. every vertex is transformed: `x' = R_z R_y R_x (s x) + t`, i.e. scaled by
-//!    `scale`, rotated by `rotate[0]` degrees about x, then `rotate[1]` about y,
-//!    then `rotate[2]` about z (right-handed, counter-clockwise seen from the
-//!    positive axis), then translated by `translate`;
-//! 2. with `merge_tolerance > 0`, each used vertex closer than the tolerance
-//!    (after the transforms, in scene length units) to an earlier used vertex
-//!    is merged into the earliest such vertex (a spatial hash with cells of
-//!    the tolerance's size: linear time);
-//! 3. each simplex's signed volume `det D_m / d!` is checked: one whose
-//!    magnitude is at most `1e-12` times the product of its edge lengths
-//!    over `d!` (the threshold of [`Mesh::new`]) is degenerate, an error naming
-//!    it; a negative one is re-oriented by swapping its second and third
-//!    vertices, unless `orient = false`, where it is an error;
-//! 4. vertices that no simplex uses are dropped;
-//! 5. connected pieces (simplices sharing a vertex belong to one piece) are
-//!    counted: several pieces are fine, they are several bodies.
 
 use super::imported_mesh::{describe_counts, plural};
 use super::{ImportedMesh, MeshImportError};
@@ -138,8 +120,25 @@ impl fmt::Display for ImportReport {
     }
 }
 
-/// Cleans an imported mesh into a [`Mesh`] (see the module documentation for
-/// the steps) and reports what it did.
+/// Cleans an imported mesh into a [`Mesh`] and reports what it did.
+///
+/// The steps, in this order:
+/// 1. every vertex is transformed: `x' = R_z R_y R_x (s x) + t`, i.e. scaled by
+///    `scale`, rotated by `rotate[0]` degrees about x, then `rotate[1]` about y,
+///    then `rotate[2]` about z (right-handed, counter-clockwise seen from the
+///    positive axis), then translated by `translate`;
+/// 2. with `merge_tolerance > 0`, each used vertex closer than the tolerance
+///    (after the transforms, in scene length units) to an earlier kept vertex
+///    is merged into the earliest such one (a spatial hash with cells of the
+///    tolerance's size: linear time; merging does not chain);
+/// 3. each simplex's signed volume `det D_m / d!` is checked: one whose
+///    magnitude is at most `1e-12` times the product of its edge lengths
+///    over `d!` (the threshold of [`Mesh::new`]) is degenerate, an error naming
+///    it; a negative one is re-oriented by swapping its second and third
+///    vertices, unless `orient = false`, where it is an error;
+/// 4. vertices that no simplex uses are dropped;
+/// 5. connected pieces (simplices sharing a vertex belong to one piece) are
+///    counted: several pieces are fine, they are several bodies.
 pub fn clean<const D: usize>(
     imported: ImportedMesh,
     options: &ImportOptions<D>,

@@ -10,8 +10,7 @@
 //! ignored; a 2D read refuses tetrahedra and vertices off the plane z = 0.
 //! Cleaning ([`clean`]) transforms the vertices, merges duplicates on request,
 //! re-orients inverted elements, refuses degenerate ones, drops unreferenced
-//! vertices and counts connected pieces (see [`clean`]'s module docs for the
-//! order). [`load_mesh`] does both.
+//! vertices and counts connected pieces (see [`clean`] for the order). [`load_mesh`] does both.
 //!
 //! | format | extension | read by |
 //! | --- | --- | --- |
