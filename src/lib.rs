@@ -24,6 +24,7 @@ pub mod integrator;
 pub mod material;
 pub mod math;
 pub mod mesh;
+pub mod mesh_io;
 pub mod sim;
 pub mod solver;
 

@@ -8,8 +8,12 @@ mod mesh_series_writer;
 mod output_dir;
 mod output_error;
 mod stats_writer;
+mod surface_writer;
 
 pub use mesh_series_writer::MeshSeriesWriter;
 pub use output_dir::OutputDir;
 pub use output_error::OutputError;
 pub use stats_writer::{StatsWriter, stats_columns};
+pub use surface_writer::{
+    Surface, SurfaceFormat, SurfaceSeriesWriter, surface_file_name, write_surface,
+};
