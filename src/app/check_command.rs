@@ -84,14 +84,14 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
         "  solver          {method}, tolerance {} length/s, at most {} iterations per step",
         solver.tolerance, solver.max_iterations
     );
-    let field = match render.field {
+    let field = match scene.field() {
         FieldChoice::Flat => "flat colour".to_owned(),
         f => f.name().to_owned(),
     };
     let _ = writeln!(
         s,
         "  render          {}x{}, {field}",
-        render.resolution[0], render.resolution[1]
+        render.width, render.height
     );
     s
 }

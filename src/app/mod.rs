@@ -9,7 +9,6 @@ mod check_command;
 mod cli;
 mod compare_command;
 mod progress;
-mod render_glue;
 mod render_stage;
 mod run_command;
 mod scenes_command;

@@ -10,7 +10,6 @@
 
 use super::cli::{RunArgs, VideoChoice};
 use super::progress::{Progress, ProgressMode};
-use super::render_glue::render_settings;
 use super::render_stage::RenderStage;
 use super::{AppError, build_simulation, scene_overrides};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
@@ -122,7 +121,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
     };
     let frames = config.time.frames;
     let mut render = render_mesh.map(|render_mesh| {
-        let settings = render_settings(&config.render, config.effects.ground.map(|g| g.height));
+        let settings = config.render.clone();
         let outputs = RenderOutputs {
             frames_dir: out.join("frames"),
             video_dir: out.path().to_owned(),
@@ -134,7 +133,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
 
     // 3. Simulate frame by frame, streaming the data outputs (and the images
     //    when the renderer can take them now).
-    let field = config.render.field.element_field();
+    let field = config.field.element_field();
     let field_name = match field {
         ElementField::EnergyDensity => "energy_density",
         ElementField::VonMises => "von_mises",

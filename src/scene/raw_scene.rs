@@ -1,9 +1,10 @@
 //! The scene file as written: serde structs mirroring the TOML, before validation.
 //!
 //! Every table denies unknown keys. Optional keys are `Option`s here; the
-//! validated [`Scene`](super::Scene) fills in defaults, and
-//! [`RawScene::resolved`](super::Scene::resolved_toml) writes the filled-in
-//! form back so a run can be reproduced exactly.
+//! validator (`scene_validator.rs`) fills in defaults for the typed
+//! [`Scene`](super::Scene) and writes the filled-in raw form back
+//! ([`Scene::load_resolved`](super::Scene::load_resolved)) so a run can be
+//! reproduced exactly.
 
 use serde::{Deserialize, Serialize};
 
