@@ -13,6 +13,14 @@ pub enum AppError {
     /// The scene could not be found, parsed or validated.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A flag's value is out of range.
+    #[error("`{flag}`: {reason}")]
+    Flag {
+        /// The flag and its value as typed, e.g. `--threshold-mean -1`.
+        flag: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// The box mesh of the scene is invalid.
     #[error("the mesh of scene `{scene}` is invalid")]
     Mesh {
@@ -73,6 +81,7 @@ impl AppError {
     pub fn exit_code(&self) -> i32 {
         match self {
             AppError::Scene(_)
+            | AppError::Flag { .. }
             | AppError::Mesh { .. }
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,

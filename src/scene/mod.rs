@@ -32,6 +32,6 @@ pub use scene_config::{
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
     DEFAULT_TOLERANCE, FieldChoice, MAX_RESOLUTION, MaterialConfig, Scene, SceneConfig, TimeConfig,
 };
-pub use scene_error::{Diagnostic, Origin, SceneError};
+pub use scene_error::{Diagnostic, Origin, SceneError, num};
 pub use scene_override::SceneOverride;
 pub use scene_source::{BUILTIN_SCENES, BuiltinScene, DEFAULT_SCENE, SceneSource, builtin_scene};

@@ -1,6 +1,8 @@
 //! The scene file as written: serde structs mirroring the TOML, before validation.
 //!
-//! Every table denies unknown keys. Optional keys are `Option`s here; the
+//! Whole numbers are `i64` (what TOML holds) so that the validator, not
+//! serde, reports a negative count with its range. Every table denies
+//! unknown keys and says "expected a table" rather than its Rust name. Optional keys are `Option`s here; the
 //! validator (`scene_validator.rs`) fills in defaults for the typed
 //! [`Scene`](super::Scene) and writes the filled-in raw form back
 //! ([`Scene::load_resolved`](super::Scene::load_resolved)) so a run can be
@@ -10,11 +12,11 @@ use serde::{Deserialize, Serialize};
 
 /// The whole scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawScene {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    pub dimension: u64,
+    pub dimension: i64,
     pub mesh: RawMesh,
     pub material: RawMaterial,
     #[serde(default)]
@@ -25,6 +27,17 @@ pub(crate) struct RawScene {
     pub effects: RawEffects,
     #[serde(default)]
     pub render: RawRender,
+}
+
+/// The names a key of enum type accepts, for messages (`` `stvk` or `neo-hookean` ``).
+pub(crate) fn choices(key: &str) -> Option<&'static str> {
+    Some(match key {
+        "mesh.generator" => "`box`",
+        "material.model" => "`stvk` or `neo-hookean`",
+        "solver.method" => "`newton` or `gradient-descent`",
+        "render.field" => "`energy-density`, `von-mises`, `volume-ratio` or `flat`",
+        _ => return None,
+    })
 }
 
 /// Mesh generators.
@@ -38,12 +51,12 @@ pub(crate) enum Generator {
 
 /// `[mesh]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawMesh {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generator: Option<Generator>,
     pub size: Vec<f64>,
-    pub cells: Vec<u64>,
+    pub cells: Vec<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub offset: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,7 +75,7 @@ pub(crate) enum Model {
 
 /// `[material]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawMaterial {
     pub model: Model,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -79,16 +92,16 @@ pub(crate) struct RawMaterial {
 
 /// `[time]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawTime {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fps: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub substeps: Option<u64>,
+    pub substeps: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub frames: Option<u64>,
+    pub frames: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration: Option<f64>,
 }
@@ -106,21 +119,21 @@ pub(crate) enum Method {
 
 /// `[solver]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawSolver {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<Method>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub max_iterations: Option<u64>,
+    pub max_iterations: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
 }
 
 /// `[effects]`: each sub-table present is an effect that exists.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawEffects {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<RawGravity>,
@@ -132,14 +145,14 @@ pub(crate) struct RawEffects {
 
 /// `[effects.gravity]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawGravity {
     pub acceleration: Vec<f64>,
 }
 
 /// `[effects.ground]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawGround {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height: Option<f64>,
@@ -151,7 +164,7 @@ pub(crate) struct RawGround {
 
 /// `[effects.pinned]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawPinned {
     pub min: Vec<f64>,
     pub max: Vec<f64>,
@@ -174,10 +187,10 @@ pub(crate) enum FieldName {
 
 /// `[render]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawRender {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub resolution: Option<Vec<u64>>,
+    pub resolution: Option<Vec<i64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<FieldName>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -196,7 +209,7 @@ pub(crate) struct RawRender {
 
 /// `[render.camera]`: 2D keys (`center`, `height`) or 3D keys (`eye`, `target`, `fov`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawCamera {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub center: Option<Vec<f64>>,
@@ -208,4 +221,44 @@ pub(crate) struct RawCamera {
     pub target: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fov: Option<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(key: &str) -> Vec<String> {
+        choices(key)
+            .unwrap()
+            .split('`')
+            .skip(1)
+            .step_by(2)
+            .map(str::to_owned)
+            .collect()
+    }
+
+    /// The names listed in messages are exactly the ones serde accepts.
+    #[test]
+    fn listed_choices_are_the_accepted_names() {
+        fn accepts<T: serde::de::DeserializeOwned>(name: &str) -> bool {
+            toml::Value::String(name.to_owned()).try_into::<T>().is_ok()
+        }
+        for name in names("mesh.generator") {
+            assert!(accepts::<Generator>(&name), "{name}");
+        }
+        assert_eq!(names("material.model"), ["stvk", "neo-hookean"]);
+        for name in names("material.model") {
+            assert!(accepts::<Model>(&name), "{name}");
+        }
+        assert_eq!(names("solver.method").len(), 2);
+        for name in names("solver.method") {
+            assert!(accepts::<Method>(&name), "{name}");
+        }
+        assert_eq!(names("render.field").len(), 4);
+        for name in names("render.field") {
+            assert!(accepts::<FieldName>(&name), "{name}");
+        }
+        assert!(!accepts::<Model>("rubber"));
+        assert_eq!(choices("material.young"), None);
+    }
 }

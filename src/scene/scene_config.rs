@@ -45,6 +45,27 @@ pub const DEFAULT_BACKGROUND: [f64; 3] = [0.95, 0.95, 0.95];
 pub const DEFAULT_FOV: f64 = 35.0;
 /// Largest accepted image side, pixels.
 pub const MAX_RESOLUTION: u32 = 16384;
+/// Largest image, in bytes of its read-back buffer (see [`image_bytes`]): the
+/// renderer's device never allows a larger buffer (WebGL2-level limits,
+/// lowered further by some adapters, which `run` checks before simulating).
+pub const MAX_IMAGE_BYTES: u64 = 256 << 20;
+/// Largest number of output frames.
+pub const MAX_FRAMES: usize = 1_000_000;
+/// Largest number of steps per frame.
+pub const MAX_SUBSTEPS: usize = 1_000_000;
+/// Largest number of time steps in a run, `(frames - 1) * substeps`.
+pub const MAX_STEPS: u64 = 1_000_000_000;
+/// Largest number of mesh cells (product of `mesh.cells`).
+pub const MAX_CELLS: usize = 50_000_000;
+/// Longest scene name, in bytes (it names a folder).
+pub const MAX_NAME_BYTES: usize = 255;
+
+/// Bytes of the buffer an image of `width` x `height` pixels is read back
+/// through: RGBA8 rows padded to 256 bytes (wgpu's copy alignment).
+pub fn image_bytes(width: u32, height: u32) -> u64 {
+    let row = (u64::from(width) * 4).div_ceil(256) * 256;
+    row * u64::from(height)
+}
 
 /// The box generator's parameters (`[mesh]`).
 #[derive(Debug, Clone, Copy, PartialEq)]

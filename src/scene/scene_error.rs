@@ -3,6 +3,23 @@
 use std::fmt;
 use std::path::PathBuf;
 
+/// A number for a message: plain when it reads well (`0.3`, `300`,
+/// `12.5`), short scientific otherwise (`1e-300`, `1.5e39`), never hundreds
+/// of digits.
+pub fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A list of numbers for a message, e.g. `[1e-300, 0.5]`.
+pub(crate) fn nums(values: &[f64]) -> String {
+    let parts: Vec<String> = values.iter().map(|&x| num(x)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
 /// Where a bad value came from.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Origin {
@@ -85,5 +102,23 @@ impl SceneError {
             SceneError::Invalid(d) => Some(d),
             _ => None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_read_short() {
+        assert_eq!(num(0.3), "0.3");
+        assert_eq!(num(300.0), "300");
+        assert_eq!(num(-12.5), "-12.5");
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(1e-300), "1e-300");
+        assert_eq!(num(-1e300), "-1e300");
+        assert_eq!(num(1.5e39), "1.5e39");
+        assert_eq!(num(f64::INFINITY), "inf");
+        assert_eq!(nums(&[1e-300, 0.5]), "[1e-300, 0.5]");
     }
 }

@@ -16,9 +16,12 @@ use super::scene_config::{
     BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
     DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, MAX_RESOLUTION, MaterialConfig, Scene, SceneConfig, TimeConfig,
+    DEFAULT_TOLERANCE, FieldChoice, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES, MAX_NAME_BYTES,
+    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, Scene, SceneConfig, TimeConfig,
+    image_bytes,
 };
 use super::scene_document::SceneDocument;
+use super::scene_error::{num, nums};
 use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector};
 use crate::render::{Camera, Colouring, RenderSettings};
@@ -53,13 +56,10 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     }
 
     fn scene_d<const D: usize>(&self, raw: &RawScene) -> VResult<(SceneConfig<D>, RawScene)> {
-        let name = match &raw.name {
-            Some(n) if n.trim().is_empty() => return Err(self.err("name", "must not be empty")),
-            Some(n) => n.clone(),
-            None => self.doc.source().default_name.clone(),
-        };
+        let name = self.name(raw.name.as_deref())?;
         let (mesh, initial_velocity, raw_mesh) = self.mesh::<D>(&raw.mesh)?;
         let (material, raw_material) = self.material(&raw.material)?;
+        self.mass(&mesh, material.density)?;
         let (time, raw_time) = self.time(&raw.time)?;
         let (solver, raw_solver) = self.solver(&raw.solver)?;
         let (effects, raw_effects) = self.effects::<D>(&raw.effects, &mesh)?;
@@ -78,7 +78,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         };
         let resolved = RawScene {
             name: Some(name),
-            dimension: D as u64,
+            dimension: D as i64,
             mesh: raw_mesh,
             material: raw_material,
             time: raw_time,
@@ -87,6 +87,43 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             render: raw_render,
         };
         Ok((config, resolved))
+    }
+
+    /// The scene's name: it names the folder `out/NAME`, so it must be one
+    /// plain folder name, never a path.
+    fn name(&self, given: Option<&str>) -> VResult<String> {
+        let name = given.unwrap_or(&self.doc.source().default_name);
+        let problem = if name.trim().is_empty() {
+            Some("must not be empty".to_owned())
+        } else if name.chars().any(char::is_control) {
+            Some(format!("must not contain control characters, got {name:?}"))
+        } else if name.contains(['/', '\\'])
+            || !matches!(
+                std::path::Path::new(name).components().collect::<Vec<_>>()[..],
+                [std::path::Component::Normal(_)]
+            )
+        {
+            Some(format!(
+                "must be a plain name, not a path ({name:?} has a path separator, `.` or `..`, \
+                 or is absolute): it names the output folder out/NAME; choose another folder \
+                 with --out"
+            ))
+        } else if name.len() > MAX_NAME_BYTES {
+            Some(format!(
+                "must be at most {MAX_NAME_BYTES} bytes long (it names a folder), got {}",
+                name.len()
+            ))
+        } else {
+            None
+        };
+        match (problem, given) {
+            (None, _) => Ok(name.to_owned()),
+            (Some(reason), Some(_)) => Err(self.err("name", reason)),
+            (Some(reason), None) => Err(self.err(
+                "name",
+                format!("the default name (the file's stem) {reason}; set `name` in the scene"),
+            )),
+        }
     }
 
     /// A vector of exactly `D` finite components.
@@ -98,7 +135,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             ));
         }
         if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
-            return Err(self.err(key, format!("components must be finite, got {bad}")));
+            return Err(self.err(key, format!("components must be finite, got {}", num(*bad))));
         }
         Ok(Vector::<D>::from_fn(|i, _| v[i]))
     }
@@ -107,22 +144,54 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         if x.is_finite() && x > 0.0 {
             Ok(x)
         } else {
-            Err(self.err(key, format!("must be a finite number > 0, got {x}")))
+            Err(self.err(key, format!("must be a finite number > 0, got {}", num(x))))
         }
     }
 
-    fn count(&self, key: &str, n: u64) -> VResult<usize> {
-        if n == 0 {
-            return Err(self.err(key, "must be at least 1, got 0"));
+    /// A whole number from 1 to `max`.
+    fn count(&self, key: &str, n: i64, max: usize) -> VResult<usize> {
+        if n < 1 {
+            return Err(self.err(key, format!("must be at least 1, got {n}")));
         }
-        usize::try_from(n).map_err(|_| self.err(key, format!("{n} is too large")))
+        match usize::try_from(n) {
+            Ok(n) if n <= max => Ok(n),
+            _ => Err(self.err(key, format!("must be at most {max}, got {n}"))),
+        }
+    }
+
+    /// Rendering works in 32-bit floats: `x` must stay finite (and, when
+    /// `positive`, above zero) as one.
+    fn single_precision(&self, key: &str, values: &[f64], positive: bool) -> VResult<()> {
+        for &x in values {
+            let single = x as f32;
+            let ok = single.is_finite() && (!positive || single >= f32::MIN_POSITIVE);
+            if !ok {
+                let range = if positive {
+                    "from 1.2e-38 to 3.4e38"
+                } else {
+                    "up to 3.4e38"
+                };
+                return Err(self.err(
+                    key,
+                    format!(
+                        "{} is out of the renderer's range: images are drawn in 32-bit floats, \
+                         which hold magnitudes {range}",
+                        num(x)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 
     fn mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
         let Generator::Box = raw.generator.unwrap_or_default();
         let size = self.vector::<D>("mesh.size", &raw.size)?;
         if let Some(bad) = size.iter().find(|s| **s <= 0.0) {
-            return Err(self.err("mesh.size", format!("every extent must be > 0, got {bad}")));
+            return Err(self.err(
+                "mesh.size",
+                format!("every extent must be > 0, got {}", num(*bad)),
+            ));
         }
         if raw.cells.len() != D {
             return Err(self.err(
@@ -135,19 +204,28 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         }
         let mut cells = [0usize; D];
         for (c, &n) in cells.iter_mut().zip(&raw.cells) {
-            *c = self.count("mesh.cells", n)?;
+            *c = self.count("mesh.cells", n, MAX_CELLS)?;
         }
-        let elements = cells.iter().try_fold(1usize, |acc, &c| acc.checked_mul(c));
-        if elements.is_none_or(|n| n > 50_000_000) {
+        let total = cells.iter().try_fold(1usize, |acc, &c| acc.checked_mul(c));
+        if total.is_none_or(|n| n > MAX_CELLS) {
             return Err(self.err(
                 "mesh.cells",
-                format!("{:?} makes too many cells", raw.cells),
+                format!(
+                    "{:?} makes {} cells, more than the {MAX_CELLS} allowed",
+                    raw.cells,
+                    cells.iter().map(|&c| c as f64).product::<f64>()
+                ),
             ));
         }
         let offset = match &raw.offset {
             Some(v) => self.vector::<D>("mesh.offset", v)?,
             None => Vector::<D>::zeros(),
         };
+        self.box_cells::<D>(&BoxMesh {
+            size,
+            cells,
+            offset,
+        })?;
         let velocity = match &raw.velocity {
             Some(v) => self.vector::<D>("mesh.velocity", v)?,
             None => Vector::<D>::zeros(),
@@ -170,6 +248,83 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         ))
     }
 
+    /// The box generator must be able to place every cell: the corners fit
+    /// the renderer's 32-bit floats, each cell spans a resolvable step of its
+    /// coordinates, and its volume is a normal double.
+    fn box_cells<const D: usize>(&self, mesh: &BoxMesh<D>) -> VResult<()> {
+        let upper = mesh.offset + mesh.size;
+        for axis in 0..D {
+            if !upper[axis].is_finite() {
+                return Err(self.err(
+                    "mesh.size",
+                    format!(
+                        "offset + size along axis {axis} overflows: {} + {}",
+                        num(mesh.offset[axis]),
+                        num(mesh.size[axis])
+                    ),
+                ));
+            }
+        }
+        self.single_precision("mesh.offset", mesh.offset.as_slice(), false)?;
+        self.single_precision("mesh.size", upper.as_slice(), false)?;
+        let cell: Vec<f64> = (0..D)
+            .map(|a| mesh.size[a] / mesh.cells[a] as f64)
+            .collect();
+        for axis in 0..D {
+            let magnitude = mesh.offset[axis].abs().max(upper[axis].abs());
+            if !(cell[axis] >= 1e-9 * magnitude) {
+                return Err(self.err(
+                    "mesh.size",
+                    format!(
+                        "cells of {} along axis {axis} are too small to place at {} \
+                         (mesh.offset): a cell must span at least 1e-9 of its coordinates \
+                         in double precision",
+                        num(cell[axis]),
+                        num(mesh.offset[axis])
+                    ),
+                ));
+            }
+        }
+        let volume: f64 = cell.iter().product();
+        let diagonal: f64 = cell.iter().map(|h| h * h).sum();
+        if !(volume >= f64::MIN_POSITIVE && volume.is_finite() && diagonal.is_finite()) {
+            let which = if volume.is_finite() && volume < 1.0 {
+                "small: their volume underflows"
+            } else {
+                "large: their volume overflows"
+            };
+            return Err(self.err(
+                "mesh.size",
+                format!(
+                    "cells of {} are too {which} double precision; choose other length units",
+                    nums(&cell)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Masses are density times element volumes: they must be normal doubles.
+    fn mass<const D: usize>(&self, mesh: &BoxMesh<D>, density: f64) -> VResult<()> {
+        let element: f64 = (0..D)
+            .map(|a| mesh.size[a] / mesh.cells[a] as f64)
+            .product::<f64>()
+            / (1..=D + 1).product::<usize>() as f64;
+        let total = density * mesh.size.iter().product::<f64>();
+        if !(density * element >= f64::MIN_POSITIVE && total.is_finite()) {
+            return Err(self.err(
+                "material.density",
+                format!(
+                    "{} times the mesh's volume gives vertex masses outside double precision \
+                     (total mass {})",
+                    num(density),
+                    num(total)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn material(&self, raw: &RawMaterial) -> VResult<(MaterialConfig, RawMaterial)> {
         let lame = match (raw.young, raw.poisson, raw.mu, raw.lambda) {
             (Some(young), Some(poisson), None, None) => {
@@ -177,17 +332,34 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 if !(poisson > -1.0 && poisson < 0.5) {
                     return Err(self.err(
                         "material.poisson",
-                        format!("must lie in (-1, 0.5), got {poisson}"),
+                        format!("must lie in (-1, 0.5), got {}", num(poisson)),
                     ));
                 }
-                LameParameters::from(YoungPoisson { young, poisson })
+                let lame = LameParameters::from(YoungPoisson { young, poisson });
+                if !(lame.mu.is_finite() && lame.lambda.is_finite()) {
+                    return Err(self.err(
+                        "material.young",
+                        format!(
+                            "{} with poisson = {} gives Lamé parameters outside double \
+                             precision (mu = {}, lambda = {})",
+                            num(young),
+                            num(poisson),
+                            num(lame.mu),
+                            num(lame.lambda)
+                        ),
+                    ));
+                }
+                lame
             }
             (None, None, Some(mu), Some(lambda)) => {
                 self.positive("material.mu", mu)?;
                 if !(lambda.is_finite() && 3.0 * lambda + 2.0 * mu > 0.0) {
                     return Err(self.err(
                         "material.lambda",
-                        format!("must be finite with 3 lambda + 2 mu > 0 (a positive bulk modulus), got {lambda}"),
+                        format!(
+                            "must be finite with 3 lambda + 2 mu > 0 (a positive bulk modulus), got {}",
+                            num(lambda)
+                        ),
                     ));
                 }
                 LameParameters { mu, lambda }
@@ -237,26 +409,44 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         let fps = self.positive("time.fps", raw.fps.unwrap_or(DEFAULT_FPS))?;
         let substeps = match (raw.substeps, raw.dt) {
             (None, None) => DEFAULT_SUBSTEPS,
-            (Some(n), None) => self.count("time.substeps", n)?,
+            (Some(n), None) => self.count("time.substeps", n, MAX_SUBSTEPS)?,
             (substeps, Some(dt)) => {
                 let dt = self.positive("time.dt", dt)?;
                 let exact = 1.0 / (fps * dt);
                 let nearest = exact.round().max(1.0);
+                if !(nearest <= MAX_SUBSTEPS as f64) {
+                    return Err(self.err(
+                        "time.dt",
+                        format!(
+                            "{} s makes {} steps per frame of 1/{} s, more than the \
+                             {MAX_SUBSTEPS} allowed",
+                            num(dt),
+                            num(exact),
+                            num(fps)
+                        ),
+                    ));
+                }
                 if (exact - nearest).abs() > 1e-3 * nearest {
                     return Err(self.err(
                         "time.dt",
                         format!(
-                            "{dt} s does not split a frame of 1/{fps} s into whole steps ({exact:.4} steps); \
+                            "{} s does not split a frame of 1/{} s into whole steps ({exact:.4} steps); \
                              use e.g. dt = {:.6e} ({nearest} steps) or give `substeps`",
+                            num(dt),
+                            num(fps),
                             1.0 / (fps * nearest)
                         ),
                     ));
                 }
                 let from_dt = nearest as usize;
-                if let Some(n) = substeps.filter(|&n| n as usize != from_dt) {
+                if let Some(n) = substeps.filter(|&n| n != from_dt as i64) {
                     return Err(self.err(
                         "time.dt",
-                        format!("dt = {dt} s means {from_dt} steps per frame at {fps} fps, but substeps = {n}"),
+                        format!(
+                            "dt = {} s means {from_dt} steps per frame at {} fps, but substeps = {n}",
+                            num(dt),
+                            num(fps)
+                        ),
                     ));
                 }
                 from_dt
@@ -266,26 +456,69 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             (Some(_), Some(_)) => {
                 return Err(self.err("time.duration", "give `frames` or `duration`, not both"));
             }
-            (Some(n), None) => self.count("time.frames", n)?,
+            (Some(n), None) => self.count("time.frames", n, MAX_FRAMES)?,
             (None, Some(d)) => {
                 let d = self.positive("time.duration", d)?;
                 let n = (d * fps).round();
                 if n < 1.0 {
                     return Err(self.err(
                         "time.duration",
-                        format!("{d} s is less than one frame at {fps} fps"),
+                        format!("{} s is less than one frame at {} fps", num(d), num(fps)),
+                    ));
+                }
+                if !(n <= MAX_FRAMES as f64) {
+                    return Err(self.err(
+                        "time.duration",
+                        format!(
+                            "{} s at {} fps is {} frames, more than the {MAX_FRAMES} allowed",
+                            num(d),
+                            num(fps),
+                            num(n)
+                        ),
                     ));
                 }
                 n as usize
             }
             (None, None) => DEFAULT_FRAMES,
         };
+        let time_key = match (raw.dt, raw.frames, raw.duration) {
+            (Some(_), _, _) => "time.dt",
+            (None, Some(_), _) => "time.frames",
+            (None, None, Some(_)) => "time.duration",
+            _ => "time.substeps",
+        };
+        let steps = (frames - 1) as u64 * substeps as u64;
+        if steps > MAX_STEPS {
+            return Err(self.err(
+                time_key,
+                format!(
+                    "{frames} frames of {substeps} steps make {steps} time steps, more than the \
+                     {MAX_STEPS} allowed"
+                ),
+            ));
+        }
         let dt = 1.0 / (fps * substeps as f64);
+        // The solver weighs the potential by dt²: it must be a normal double.
+        if !((dt * dt).is_finite() && dt * dt >= f64::MIN_POSITIVE) {
+            let key = if raw.dt.is_some() {
+                "time.dt"
+            } else {
+                "time.fps"
+            };
+            return Err(self.err(
+                key,
+                format!(
+                    "gives a time step dt = 1 / (fps × substeps) = {} s whose square is outside \
+                     double precision (the solver weighs forces by dt²)",
+                    num(dt)
+                ),
+            ));
+        }
         let resolved = RawTime {
             fps: Some(fps),
-            substeps: Some(substeps as u64),
+            substeps: Some(substeps as i64),
             dt: None,
-            frames: Some(frames as u64),
+            frames: Some(frames as i64),
             duration: None,
         };
         Ok((
@@ -328,13 +561,13 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             }
         };
         let max_iterations = match raw.max_iterations {
-            Some(n) => self.count("solver.max_iterations", n)?,
+            Some(n) => self.count("solver.max_iterations", n, usize::MAX)?,
             None => default_iterations,
         };
         let resolved = RawSolver {
             method: Some(method),
             tolerance: Some(tolerance),
-            max_iterations: Some(max_iterations as u64),
+            max_iterations: Some(max_iterations as i64),
             step,
         };
         Ok((
@@ -364,9 +597,10 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             if !height.is_finite() {
                 return Err(self.err(
                     "effects.ground.height",
-                    format!("must be finite, got {height}"),
+                    format!("must be finite, got {}", num(height)),
                 ));
             }
+            self.single_precision("effects.ground.height", &[height], false)?;
             let a = self.positive("effects.ground.a", g.a.unwrap_or(DEFAULT_BARRIER_WIDTH))?;
             let kappa = match g.kappa {
                 Some(k) => Some(self.positive("effects.ground.kappa", k)?),
@@ -377,8 +611,10 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 return Err(self.err(
                     "mesh.offset",
                     format!(
-                        "the mesh starts at height {bottom}, on or below the ground at {height} \
-                         (effects.ground.height); raise mesh.offset[{UP_AXIS}]"
+                        "the mesh starts at height {}, on or below the ground at {} \
+                         (effects.ground.height); raise mesh.offset[{UP_AXIS}]",
+                        num(bottom),
+                        num(height)
                     ),
                 ));
             }
@@ -401,7 +637,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                     "effects.pinned.max",
                     format!(
                         "is below effects.pinned.min along axis {axis} ({} < {})",
-                        max[axis], min[axis]
+                        num(max[axis]),
+                        num(min[axis])
                     ),
                 ));
             }
@@ -416,6 +653,15 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                     "the region from `min` to `max` contains no mesh vertex at rest; widen it to catch the vertices to hold",
                 ));
             }
+            let holds_all =
+                (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a]));
+            if holds_all {
+                return Err(self.err(
+                    "effects.pinned",
+                    "the region from `min` to `max` holds every mesh vertex: nothing could move; \
+                     narrow it to the vertices to hold",
+                ));
+            }
             effects.pinned = Some(PinRegion { min, max });
             resolved.pinned = Some(p.clone());
         }
@@ -427,7 +673,10 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         if v.len() != 3 || v.iter().any(|c| !(0.0..=1.0).contains(c)) {
             return Err(self.err(
                 key,
-                format!("must be 3 components in [0, 1] (linear RGB), got {v:?}"),
+                format!(
+                    "must be 3 components in [0, 1] (linear RGB), got {}",
+                    nums(v)
+                ),
             ));
         }
         Ok([v[0], v[1], v[2]])
@@ -442,14 +691,27 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             None => DEFAULT_RESOLUTION,
             Some(r) => {
                 let ok =
-                    r.len() == 2 && r.iter().all(|&p| (1..=MAX_RESOLUTION as u64).contains(&p));
+                    r.len() == 2 && r.iter().all(|&p| (1..=MAX_RESOLUTION as i64).contains(&p));
                 if !ok {
                     return Err(self.err(
                         "render.resolution",
                         format!("must be [width, height] in pixels, each 1..={MAX_RESOLUTION}, got {r:?}"),
                     ));
                 }
-                [r[0] as u32, r[1] as u32]
+                let [width, height] = [r[0] as u32, r[1] as u32];
+                if image_bytes(width, height) > MAX_IMAGE_BYTES {
+                    return Err(self.err(
+                        "render.resolution",
+                        format!(
+                            "{width}x{height} is too large: an image is read back from the GPU \
+                             in one buffer of at most {} MiB (4 bytes per pixel, rows padded \
+                             to 256 bytes), this one needs {:.1} MiB",
+                            MAX_IMAGE_BYTES >> 20,
+                            image_bytes(width, height) as f64 / (1u64 << 20) as f64
+                        ),
+                    ));
+                }
+                [width, height]
             }
         };
         let field = match raw.field.unwrap_or_default() {
@@ -464,7 +726,18 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 if r.len() != 2 || !r.iter().all(|x| x.is_finite()) || r[0] >= r[1] {
                     return Err(self.err(
                         "render.range",
-                        format!("must be [low, high] with low < high, got {r:?}"),
+                        format!("must be [low, high] with low < high, got {}", nums(r)),
+                    ));
+                }
+                self.single_precision("render.range", r, false)?;
+                if (r[0] as f32) >= (r[1] as f32) {
+                    return Err(self.err(
+                        "render.range",
+                        format!(
+                            "{} is too narrow for the renderer's 32-bit floats: low and high \
+                             round to the same value",
+                            nums(r)
+                        ),
                     ));
                 }
                 Some([r[0], r[1]])
@@ -508,7 +781,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             draw_legend: raw.legend.unwrap_or(true),
         };
         let resolved = RawRender {
-            resolution: Some(resolution.iter().map(|&p| p as u64).collect()),
+            resolution: Some(resolution.iter().map(|&p| i64::from(p)).collect()),
             field: Some(raw.field.unwrap_or_default()),
             range: range.map(|r| r.to_vec()),
             colour: Some(colour.to_vec()),
@@ -539,11 +812,14 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 .center
                 .as_ref()
                 .ok_or_else(|| self.err("render.camera.center", "is required for a 2D camera"))?;
-            let center = f32s(self.vector::<D>("render.camera.center", center)?);
+            let center = self.vector::<D>("render.camera.center", center)?;
+            self.single_precision("render.camera.center", center.as_slice(), false)?;
+            let center = f32s(center);
             let height = raw
                 .height
                 .ok_or_else(|| self.err("render.camera.height", "is required for a 2D camera"))?;
             let height = self.positive("render.camera.height", height)?;
+            self.single_precision("render.camera.height", &[height], true)?;
             Ok(Camera::Orthographic {
                 center: [center[0], center[1]],
                 height: height as f32,
@@ -564,20 +840,39 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 .eye
                 .as_ref()
                 .ok_or_else(|| self.err("render.camera.eye", "is required for a 3D camera"))?;
-            let eye = f32s(self.vector::<D>("render.camera.eye", eye)?);
+            let eye = self.vector::<D>("render.camera.eye", eye)?;
+            self.single_precision("render.camera.eye", eye.as_slice(), false)?;
+            let eye = f32s(eye);
             let target = raw
                 .target
                 .as_ref()
                 .ok_or_else(|| self.err("render.camera.target", "is required for a 3D camera"))?;
-            let target = f32s(self.vector::<D>("render.camera.target", target)?);
+            let target = self.vector::<D>("render.camera.target", target)?;
+            self.single_precision("render.camera.target", target.as_slice(), false)?;
+            let target = f32s(target);
             if eye == target {
                 return Err(self.err("render.camera.target", "must differ from `eye`"));
+            }
+            let distance = (0..3)
+                .map(|k| f64::from(eye[k]) - f64::from(target[k]))
+                .map(|d| d * d)
+                .sum::<f64>()
+                .sqrt();
+            if !((distance as f32).is_finite()) {
+                return Err(self.err(
+                    "render.camera.target",
+                    format!(
+                        "is {} from `eye`, out of the renderer's range: images are drawn in \
+                         32-bit floats, which hold magnitudes up to 3.4e38",
+                        num(distance)
+                    ),
+                ));
             }
             let fov = raw.fov.unwrap_or(DEFAULT_FOV);
             if !(fov > 0.0 && fov < 180.0) {
                 return Err(self.err(
                     "render.camera.fov",
-                    format!("must lie in (0, 180) degrees, got {fov}"),
+                    format!("must lie in (0, 180) degrees, got {}", num(fov)),
                 ));
             }
             Ok(Camera::Perspective {
