@@ -1,7 +1,6 @@
 //! Errors of the commands, each with its exit code (2: bad input, 1: failure).
 
 use crate::compare::CompareError;
-use crate::mesh::MeshError;
 use crate::output::OutputError;
 use crate::render::RenderError;
 use crate::scene::SceneError;
@@ -20,14 +19,6 @@ pub enum AppError {
         flag: String,
         /// What is wrong.
         reason: String,
-    },
-    /// The box mesh of the scene is invalid.
-    #[error("the mesh of scene `{scene}` is invalid")]
-    Mesh {
-        /// Scene name.
-        scene: String,
-        /// Why.
-        source: MeshError,
     },
     /// The simulation rejected the scene before stepping.
     #[error("cannot set up scene `{scene}`")]
@@ -82,12 +73,16 @@ impl AppError {
         match self {
             AppError::Scene(_)
             | AppError::Flag { .. }
-            | AppError::Mesh { .. }
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
             AppError::Compare(CompareError::Write { .. }) => 1,
             AppError::Compare(_) => 2,
-            AppError::Output(OutputError::NotEmpty { .. } | OutputError::NotADirectory { .. }) => 2,
+            AppError::Output(
+                OutputError::NotEmpty { .. }
+                | OutputError::NotADirectory { .. }
+                | OutputError::Symlink { .. }
+                | OutputError::InTheWay { .. },
+            ) => 2,
             AppError::Output(OutputError::Io { .. }) => 1,
             AppError::Simulation { .. } | AppError::Render(_) | AppError::FramesDiffer { .. } => 1,
         }

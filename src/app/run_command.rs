@@ -9,13 +9,13 @@
 //! rendered after the simulation (see [`RenderStage`]).
 
 use super::cli::{RunArgs, VideoChoice};
+use super::preflight::{self, SceneInput};
 use super::progress::{Progress, ProgressMode};
 use super::render_stage::RenderStage;
 use super::{AppError, build_simulation, scene_overrides};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
-    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, adapter_description, check_video_support,
-    video_file_name,
+    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support, video_file_name,
 };
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
 use crate::sim::ElementField;
@@ -64,9 +64,13 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         force: args.force,
         progress: ProgressMode::detect(args.quiet),
     };
+    let input = SceneInput {
+        source: &source,
+        overrides: &overrides,
+    };
     match &scene {
-        Scene::Two(config) => run_scene(config, &plan),
-        Scene::Three(config) => run_scene(config, &plan),
+        Scene::Two(config) => run_scene(config, &plan, input),
+        Scene::Three(config) => run_scene(config, &plan, input),
     }
 }
 
@@ -100,17 +104,41 @@ fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
     Ok(videos)
 }
 
-fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(), AppError> {
+impl Plan {
+    /// The top-level names this run writes in its folder.
+    fn writes(&self) -> Vec<&'static str> {
+        let mut names = vec!["scene.toml", "stats.csv"];
+        if self.save_meshes {
+            names.push("meshes");
+        }
+        if self.render {
+            names.push("frames");
+            names.extend(self.videos.iter().map(|v| video_file_name(*v)));
+        }
+        names
+    }
+}
+
+fn run_scene<const D: usize>(
+    config: &SceneConfig<D>,
+    plan: &Plan,
+    input: SceneInput,
+) -> Result<(), AppError> {
     let name = config.name.clone();
-    let mut sim = build_simulation(config)?;
+    if plan.render && config.render.needs_whole_run() {
+        preflight::check_kept_frames(config, input)?;
+    }
+    let mut sim = build_simulation(config, input)?;
     let render_mesh = plan.render.then(|| RenderMesh::from_mesh(sim.mesh()));
     if plan.render {
-        // No graphics adapter: fail now, not after the simulation.
-        adapter_description().map_err(AppError::Render)?;
+        // No graphics adapter, or an image it cannot hold: fail now, not
+        // after the simulation.
+        preflight::check_image_size(&config.render, input)?;
     }
 
-    // 2. The output folder: refused (untouched) when it holds anything, unless --force.
-    let out = OutputDir::check(&plan.out, plan.force)?;
+    // 2. The output folder: refused (untouched) when it holds anything, unless
+    //    --force; even then links and things in the way of the outputs are.
+    let out = OutputDir::check(&plan.out, plan.force, &plan.writes())?;
     out.prepare()?;
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
     let mut stats = StatsWriter::create(&out.join("stats.csv"))?;

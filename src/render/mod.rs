@@ -30,7 +30,7 @@ mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
 pub use export::{check_video_support, frame_file_name, write_png};
-pub use gpu::adapter_description;
+pub use gpu::{adapter_description, max_image_size};
 pub use renderer::{FrameTimings, Renderer};
 pub use sequence::{SequenceWriter, render_sequence};
 pub use video::file_name as video_file_name;

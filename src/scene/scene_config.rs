@@ -303,6 +303,22 @@ impl Scene {
         Ok((scene, text))
     }
 
+    /// An error at `key` of the scene `source` with `overrides`, located
+    /// (file line, or flag) exactly as the validator reports one: for
+    /// problems found after validation, e.g. against this machine's memory
+    /// or graphics adapter, or when the simulation is built.
+    pub fn key_error(
+        source: &SceneSource,
+        overrides: &[SceneOverride],
+        key: &str,
+        reason: impl Into<String>,
+    ) -> SceneError {
+        match SceneDocument::parse(source, overrides) {
+            Ok(document) => document.error(key, reason),
+            Err(error) => error,
+        }
+    }
+
     /// The scene's name.
     pub fn name(&self) -> &str {
         common!(self, c => &c.name)

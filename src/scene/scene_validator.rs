@@ -21,7 +21,7 @@ use super::scene_config::{
     image_bytes,
 };
 use super::scene_document::SceneDocument;
-use super::scene_error::{num, nums};
+use super::scene_error::{approx, num, nums};
 use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector};
 use crate::render::{Camera, Colouring, RenderSettings};
@@ -421,7 +421,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                             "{} s makes {} steps per frame of 1/{} s, more than the \
                              {MAX_SUBSTEPS} allowed",
                             num(dt),
-                            num(exact),
+                            approx(exact),
                             num(fps)
                         ),
                     ));
@@ -473,7 +473,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                             "{} s at {} fps is {} frames, more than the {MAX_FRAMES} allowed",
                             num(d),
                             num(fps),
-                            num(n)
+                            approx(n)
                         ),
                     ));
                 }
@@ -510,7 +510,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 format!(
                     "gives a time step dt = 1 / (fps × substeps) = {} s whose square is outside \
                      double precision (the solver weighs forces by dt²)",
-                    num(dt)
+                    approx(dt)
                 ),
             ));
         }
