@@ -6,7 +6,8 @@
 //! (thousands, fast); a few hundred run the real binary (`check`, and `run`
 //! of two frames, mostly without rendering) in a folder of their own, where
 //! everything written is listed afterwards. The seed is fixed, so a failure
-//! reproduces; the failing case is printed with its scene text and flags.
+//! reproduces; the failing case is printed with its scene text and flags
+//! (`ELASTO_PROPTEST_SEED=N` runs another seed, to explore).
 
 #[path = "cli_common.rs"]
 mod common;
@@ -279,7 +280,12 @@ fn set_arguments(case: &Case, values: &[&str]) -> Vec<String> {
     sets
 }
 
+/// A runner with a fixed seed; `ELASTO_PROPTEST_SEED=N` (0-255) explores another.
 fn runner(cases: u32, seed: u8) -> TestRunner {
+    let seed = std::env::var("ELASTO_PROPTEST_SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(seed);
     let config = Config {
         cases,
         failure_persistence: None,

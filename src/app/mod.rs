@@ -67,8 +67,8 @@ fn build_simulation<const D: usize>(
         config.initial_velocity,
     )
     .map_err(|source| setup_error(config, input, source))?;
-    preflight::check_barrier_stiffness(config, &sim, input)?;
     preflight::check_starting_energy(config, &sim, input)?;
+    preflight::check_barrier_stiffness(config, &sim, input)?;
     Ok(sim)
 }
 

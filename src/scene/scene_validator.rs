@@ -602,6 +602,16 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             }
             self.single_precision("effects.ground.height", &[height], false)?;
             let a = self.positive("effects.ground.a", g.a.unwrap_or(DEFAULT_BARRIER_WIDTH))?;
+            if !(1e-150..=1e150).contains(&a) {
+                return Err(self.err(
+                    "effects.ground.a",
+                    format!(
+                        "must lie in [1e-150, 1e150]: the barrier squares it, and its square \
+                         must be a normal double; got {}",
+                        num(a)
+                    ),
+                ));
+            }
             let kappa = match g.kappa {
                 Some(k) => Some(self.positive("effects.ground.kappa", k)?),
                 None => None,
