@@ -331,6 +331,15 @@ fn messages_name_file_key_and_reason_in_the_scene_files_words() {
             "material.density=-1e300",
             &["`material.density`", "got -1e300"],
         ),
+        // Were "the starting barrier energy is NaN" (0 × inf in the automatic stiffness).
+        (
+            "effects.ground.a=1e300",
+            &["`effects.ground.a`", "[1e-150, 1e150]"],
+        ),
+        (
+            "effects.ground.a=1e-300",
+            &["`effects.ground.a`", "got 1e-300"],
+        ),
         (
             "effects.pinned={min=[-1, -1], max=[2, 20]}",
             &["`effects.pinned`", "every mesh vertex"],
