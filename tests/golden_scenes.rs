@@ -265,9 +265,13 @@ fn hanging_bar_matches_its_golden_frame_and_renders_identically_twice() {
         &CompareThresholds::default(),
     )
     .unwrap();
+    // The second run passes against the golden frame like the first; it is
+    // not required to be bit-identical to it: faer picks its SIMD kernels at
+    // run time (AVX2 or AVX-512), so another CPU may round the last bits of
+    // the simulation differently and move a colour by one level. Two runs on
+    // one machine, compared below, must be identical.
     for f in &report.frames {
         assert_eq!(f.outcome, FrameOutcome::Pass, "{}", report.table());
-        assert!(f.mean.unwrap() < 1e-6, "{}", report.table());
     }
     for &(frame, _) in HANGING_BAR.checked {
         let name = frame_name(frame);
