@@ -49,6 +49,15 @@ pub enum AppError {
         /// The solver error (names the step).
         source: SimError,
     },
+    /// The run finished, but its health summary reports a problem and
+    /// `--strict` was given.
+    #[error("scene `{scene}` ran with problems (--strict): {summary}")]
+    Unhealthy {
+        /// Scene name.
+        scene: String,
+        /// The health summary.
+        summary: String,
+    },
     /// Rendering failed.
     #[error("rendering failed")]
     Render(#[source] RenderError),
@@ -84,7 +93,10 @@ impl AppError {
                 | OutputError::InTheWay { .. },
             ) => 2,
             AppError::Output(OutputError::Io { .. }) => 1,
-            AppError::Simulation { .. } | AppError::Render(_) | AppError::FramesDiffer { .. } => 1,
+            AppError::Simulation { .. }
+            | AppError::Unhealthy { .. }
+            | AppError::Render(_)
+            | AppError::FramesDiffer { .. } => 1,
         }
     }
 }

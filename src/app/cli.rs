@@ -45,7 +45,7 @@ pub struct RunArgs {
     /// Also write every frame's mesh as VTK (meshes/frame_NNNN.vtu and meshes/frames.pvd).
     #[arg(long)]
     pub save_meshes: bool,
-    /// Print nothing but errors (no progress).
+    /// Print nothing but errors and the health warning (no progress).
     #[arg(long, short)]
     pub quiet: bool,
     /// Write into an existing non-empty output folder, replacing elasto's files there.
@@ -54,6 +54,10 @@ pub struct RunArgs {
     /// Image size in pixels, replacing `render.resolution`, e.g. `640x360`.
     #[arg(long, value_name = "WxH", value_parser = parse_resolution, allow_hyphen_values = true)]
     pub resolution: Option<(u32, u32)>,
+    /// Exit with code 1 when the run's health summary reports a problem (steps at the
+    /// iteration cap or stalled, inverted elements, a vertex on the ground).
+    #[arg(long)]
+    pub strict: bool,
     /// Video to write besides the PNG frames: auto = APNG, plus MP4 when ffmpeg is available.
     #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
     pub video: VideoChoice,

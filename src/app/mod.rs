@@ -12,6 +12,7 @@ mod preflight;
 mod progress;
 mod render_stage;
 mod run_command;
+mod run_health;
 mod scenes_command;
 
 pub use app_error::AppError;
@@ -19,6 +20,7 @@ pub use cli::{
     CheckArgs, Cli, Command, CompareArgs, RunArgs, ScenesAction, ScenesArgs, VideoChoice,
 };
 pub use progress::{Progress, ProgressMode};
+pub use run_health::RunHealth;
 
 use crate::scene::{SceneConfig, SceneError, SceneOverride};
 use crate::sim::{SimError, Simulation};

@@ -12,6 +12,7 @@ use super::cli::{RunArgs, VideoChoice};
 use super::preflight::{self, SceneInput};
 use super::progress::{Progress, ProgressMode};
 use super::render_stage::RenderStage;
+use super::run_health::RunHealth;
 use super::{AppError, build_simulation, scene_overrides};
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
@@ -62,6 +63,7 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         render: !args.no_render,
         save_meshes: args.save_meshes,
         force: args.force,
+        strict: args.strict,
         progress: ProgressMode::detect(args.quiet),
     };
     let input = SceneInput {
@@ -82,6 +84,7 @@ struct Plan {
     render: bool,
     save_meshes: bool,
     force: bool,
+    strict: bool,
     progress: ProgressMode,
 }
 
@@ -174,6 +177,7 @@ fn run_scene<const D: usize>(
         "simulate"
     };
     let mut progress = Progress::start(plan.progress, label, frames);
+    let mut health = RunHealth::new();
     for frame in 0..frames {
         let frame_stats = if frame == 0 {
             sim.frame_stats()
@@ -186,6 +190,8 @@ fn run_scene<const D: usize>(
                 })?
         };
         stats.write_frame(frame, &frame_stats)?;
+        let steps = if frame == 0 { 0 } else { config.time.substeps };
+        health.add(frame, steps, &frame_stats);
         if meshes.is_some() || render.is_some() {
             let values = sim.element_field(field);
             if let Some(writer) = &mut meshes {
@@ -231,6 +237,18 @@ fn run_scene<const D: usize>(
             out.path().display(),
             wrote.join(", ")
         );
+    }
+
+    // 5. Say what went wrong without stopping the run (always, even when quiet).
+    if health.has_problems() {
+        let summary = health.summary(config.solver.max_iterations);
+        if plan.strict {
+            return Err(AppError::Unhealthy {
+                scene: name,
+                summary,
+            });
+        }
+        eprintln!("warning: {name}: health: {summary}");
     }
     Ok(())
 }
