@@ -1,8 +1,12 @@
 //! The commands: `run`, `scenes`, `check` and `compare`, from parsed flags to outputs.
 //!
 //! [`run`] is what `main` calls. Every command first turns its flags and the
-//! scene into validated settings (bad input: [`AppError::exit_code`] 2),
-//! and only then starts work (failures: exit code 1).
+//! scene into validated settings, then checks what the run needs against
+//! this machine and the built simulation (`preflight.rs`: memory, the
+//! adapter's image size, the starting energy, the barrier stiffness) — bad
+//! input, [`AppError::exit_code`] 2 — and only then starts work (failures:
+//! exit code 1). A finished run reports what went wrong without stopping it
+//! in its [`RunHealth`] summary.
 
 mod app_error;
 mod check_command;
