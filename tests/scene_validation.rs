@@ -2,11 +2,12 @@
 
 use elasto::energy::ElementField;
 use elasto::material::Material;
-use elasto::render::Camera;
+use elasto::render::{Camera, Colouring, RenderSettings};
 use elasto::scene::{
-    BUILTIN_SCENES, Diagnostic, FieldChoice, Origin, Scene, SceneError, SceneOverride, SceneSource,
+    BUILTIN_SCENES, BoxMesh, Diagnostic, FieldChoice, MaterialConfig, Origin, Scene, SceneConfig,
+    SceneError, SceneOverride, SceneSource, TimeConfig,
 };
-use elasto::solver::SolverMethod;
+use elasto::solver::{SolverMethod, SolverSettings};
 
 const MINIMAL: &str = r#"dimension = 2
 
@@ -88,13 +89,48 @@ fn minimal_scene_gets_documented_defaults() {
         (c.effects.gravity, c.effects.ground, c.effects.pinned),
         (None, None, None)
     );
-    assert_eq!(c.render.resolution, [1280, 720]);
-    assert_eq!(
-        c.render.field,
-        FieldChoice::Scalar(ElementField::EnergyDensity)
-    );
+    assert_eq!([c.render.width, c.render.height], [1280, 720]);
+    assert_eq!(c.field, FieldChoice::Scalar(ElementField::EnergyDensity));
     assert_eq!(c.render.camera, Camera::Auto);
-    assert!(c.render.edges && c.render.legend);
+    assert!(c.render.draw_edges && c.render.draw_legend);
+}
+
+#[test]
+fn the_settings_types_default_to_the_scene_file_defaults() {
+    let Scene::Two(c) = load(MINIMAL).unwrap() else {
+        panic!("2D")
+    };
+    assert_eq!(c.time, TimeConfig::default());
+    assert_eq!(c.solver, SolverSettings::default());
+    assert_eq!(c.field, FieldChoice::default());
+    assert_eq!(c.material.density, MaterialConfig::default().density);
+    assert_eq!(
+        c.initial_velocity,
+        SceneConfig::<2>::default().initial_velocity
+    );
+    // MINIMAL sets the offset; without it the box starts at the default corner.
+    let Scene::Two(m) = load(&edit(MINIMAL, "offset = [0.0, 10.0]\n", "")).unwrap() else {
+        panic!("2D")
+    };
+    assert_eq!(m.mesh.offset, BoxMesh::<2>::default().offset);
+    // The render settings are the renderer's type, with the renderer's defaults
+    // except for what the scene names: the legend title of its field.
+    assert_eq!(
+        c.render,
+        RenderSettings {
+            colouring: Colouring::Scalar {
+                range: None,
+                label: "strain energy density"
+            },
+            ..RenderSettings::default()
+        }
+    );
+    // With a ground, the renderer draws it where the scene puts it.
+    let Scene::Two(c) = load(&format!("{MINIMAL}[effects.ground]\nheight = -0.5\n")).unwrap()
+    else {
+        panic!("2D")
+    };
+    assert_eq!(c.render.ground_height, Some(-0.5));
 }
 
 #[test]

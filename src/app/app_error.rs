@@ -1,7 +1,6 @@
 //! Errors of the commands, each with its exit code (2: bad input, 1: failure).
 
 use crate::compare::CompareError;
-use crate::mesh::MeshError;
 use crate::output::OutputError;
 use crate::render::RenderError;
 use crate::scene::SceneError;
@@ -13,13 +12,13 @@ pub enum AppError {
     /// The scene could not be found, parsed or validated.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    /// The box mesh of the scene is invalid.
-    #[error("the mesh of scene `{scene}` is invalid")]
-    Mesh {
-        /// Scene name.
-        scene: String,
-        /// Why.
-        source: MeshError,
+    /// A flag's value is out of range.
+    #[error("`{flag}`: {reason}")]
+    Flag {
+        /// The flag and its value as typed, e.g. `--threshold-mean -1`.
+        flag: String,
+        /// What is wrong.
+        reason: String,
     },
     /// The simulation rejected the scene before stepping (exit 2), or
     /// setting up its solver failed (exit 1).
@@ -51,6 +50,15 @@ pub enum AppError {
         /// The solver error (names the step).
         source: SimError,
     },
+    /// The run finished, but its health summary reports a problem and
+    /// `--strict` was given.
+    #[error("scene `{scene}` ran with problems (--strict): {summary}")]
+    Unhealthy {
+        /// Scene name.
+        scene: String,
+        /// The health summary.
+        summary: String,
+    },
     /// Rendering failed.
     #[error("rendering failed")]
     Render(#[source] RenderError),
@@ -75,14 +83,22 @@ impl AppError {
         match self {
             AppError::Setup { source, .. } if !source.is_bad_input() => 1,
             AppError::Scene(_)
-            | AppError::Mesh { .. }
+            | AppError::Flag { .. }
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
             AppError::Compare(CompareError::Write { .. }) => 1,
             AppError::Compare(_) => 2,
-            AppError::Output(OutputError::NotEmpty { .. } | OutputError::NotADirectory { .. }) => 2,
+            AppError::Output(
+                OutputError::NotEmpty { .. }
+                | OutputError::NotADirectory { .. }
+                | OutputError::Symlink { .. }
+                | OutputError::InTheWay { .. },
+            ) => 2,
             AppError::Output(OutputError::Io { .. }) => 1,
-            AppError::Simulation { .. } | AppError::Render(_) | AppError::FramesDiffer { .. } => 1,
+            AppError::Simulation { .. }
+            | AppError::Unhealthy { .. }
+            | AppError::Render(_)
+            | AppError::FramesDiffer { .. } => 1,
         }
     }
 }

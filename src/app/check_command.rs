@@ -1,7 +1,7 @@
 //! `elasto check`: validate a scene and print what would be simulated.
 
 use super::cli::CheckArgs;
-use super::{AppError, build_simulation, scene_overrides};
+use super::{AppError, SceneInput, build_simulation, scene_overrides};
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
 use crate::solver::SolverMethod;
 use std::fmt::Write as _;
@@ -11,17 +11,24 @@ pub fn check(args: &CheckArgs) -> Result<String, AppError> {
     let source = SceneSource::resolve(Some(&args.scene))?;
     let overrides = scene_overrides(&args.set)?;
     let scene = Scene::load(&source, &overrides)?;
+    let input = SceneInput {
+        source: &source,
+        overrides: &overrides,
+    };
     let barrier = match &scene {
-        Scene::Two(c) => barrier_stiffness(c)?,
-        Scene::Three(c) => barrier_stiffness(c)?,
+        Scene::Two(c) => barrier_stiffness(c, input)?,
+        Scene::Three(c) => barrier_stiffness(c, input)?,
     };
     Ok(summary(&source, &scene, barrier))
 }
 
 /// Builds the mesh and the simulation (no stepping) so that every setup error
 /// shows here, and reports the barrier stiffness in use.
-fn barrier_stiffness<const D: usize>(config: &SceneConfig<D>) -> Result<Option<f64>, AppError> {
-    Ok(build_simulation(config)?.barrier_stiffness())
+fn barrier_stiffness<const D: usize>(
+    config: &SceneConfig<D>,
+    input: SceneInput,
+) -> Result<Option<f64>, AppError> {
+    Ok(build_simulation(config, input)?.barrier_stiffness())
 }
 
 fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String {
@@ -88,14 +95,14 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
         "  solver          {method}, tolerance {} length/s, at most {} iterations per step",
         solver.tolerance, solver.max_iterations
     );
-    let field = match render.field {
+    let field = match scene.field() {
         FieldChoice::Flat => "flat colour".to_owned(),
         f => f.name().to_owned(),
     };
     let _ = writeln!(
         s,
         "  render          {}x{}, {field}",
-        render.resolution[0], render.resolution[1]
+        render.width, render.height
     );
     s
 }

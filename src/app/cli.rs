@@ -37,23 +37,27 @@ pub struct RunArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Number of output frames, replacing `time.frames` / `time.duration`.
-    #[arg(long, value_name = "N")]
-    pub frames: Option<u64>,
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub frames: Option<i64>,
     /// Only simulate: write scene.toml and stats.csv (and meshes), no images.
     #[arg(long)]
     pub no_render: bool,
     /// Also write every frame's mesh as VTK (meshes/frame_NNNN.vtu and meshes/frames.pvd).
     #[arg(long)]
     pub save_meshes: bool,
-    /// Print nothing but errors (no progress).
+    /// Print nothing but errors and the health warning (no progress).
     #[arg(long, short)]
     pub quiet: bool,
     /// Write into an existing non-empty output folder, replacing elasto's files there.
     #[arg(long)]
     pub force: bool,
     /// Image size in pixels, replacing `render.resolution`, e.g. `640x360`.
-    #[arg(long, value_name = "WxH", value_parser = parse_resolution)]
+    #[arg(long, value_name = "WxH", value_parser = parse_resolution, allow_hyphen_values = true)]
     pub resolution: Option<(u32, u32)>,
+    /// Exit with code 1 when the run's health summary reports a problem (steps at the
+    /// iteration cap or stalled, inverted elements, a vertex on the ground).
+    #[arg(long)]
+    pub strict: bool,
     /// Video to write besides the PNG frames: auto = APNG, plus MP4 when ffmpeg is available.
     #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
     pub video: VideoChoice,
@@ -100,14 +104,14 @@ pub struct CompareArgs {
     #[arg(long, value_name = "DIR")]
     pub diff: Option<PathBuf>,
     /// Largest accepted mean FLIP error per frame, in [0, 1] (default 0.02).
-    #[arg(long, value_name = "X")]
-    pub threshold_mean: Option<f32>,
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
+    pub threshold_mean: Option<f64>,
     /// Largest accepted FLIP error at the checked percentile, in [0, 1] (default 0.1).
-    #[arg(long, value_name = "Y")]
-    pub threshold_percentile: Option<f32>,
+    #[arg(long, value_name = "Y", allow_hyphen_values = true)]
+    pub threshold_percentile: Option<f64>,
     /// The percentile of the FLIP error map that `--threshold-percentile` bounds, in (0, 1) (default 0.999).
-    #[arg(long, value_name = "P")]
-    pub percentile: Option<f32>,
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    pub percentile: Option<f64>,
 }
 
 /// The `--video` choices.

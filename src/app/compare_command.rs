@@ -3,6 +3,7 @@
 use super::AppError;
 use super::cli::CompareArgs;
 use crate::compare::{CompareThresholds, compare_directories};
+use crate::scene::num;
 
 /// Runs `elasto compare`: prints the report table, fails when a frame does not pass.
 pub fn compare(args: &CompareArgs) -> Result<(), AppError> {
@@ -15,12 +16,35 @@ pub fn compare(args: &CompareArgs) -> Result<(), AppError> {
         parent.join("diff")
     });
     let defaults = CompareThresholds::default();
+    let in_range = |flag: &str, value: Option<f64>, open: bool| -> Result<(), AppError> {
+        let Some(x) = value else { return Ok(()) };
+        let ok = if open {
+            x > 0.0 && x < 1.0
+        } else {
+            (0.0..=1.0).contains(&x)
+        };
+        if ok {
+            return Ok(());
+        }
+        let range = if open {
+            "must lie strictly between 0 and 1 (e.g. 0.999)"
+        } else {
+            "must lie in [0, 1], the range of FLIP errors"
+        };
+        Err(AppError::Flag {
+            flag: format!("{flag} {}", num(x)),
+            reason: format!("{range}, got {}", num(x)),
+        })
+    };
+    in_range("--threshold-mean", args.threshold_mean, false)?;
+    in_range("--threshold-percentile", args.threshold_percentile, false)?;
+    in_range("--percentile", args.percentile, true)?;
     let thresholds = CompareThresholds {
-        mean: args.threshold_mean.unwrap_or(defaults.mean),
+        mean: args.threshold_mean.map_or(defaults.mean, |x| x as f32),
         percentile_value: args
             .threshold_percentile
-            .unwrap_or(defaults.percentile_value),
-        percentile: args.percentile.unwrap_or(defaults.percentile),
+            .map_or(defaults.percentile_value, |x| x as f32),
+        percentile: args.percentile.map_or(defaults.percentile, |x| x as f32),
     };
     let report = compare_directories(&args.golden, &args.frames, &diff, &thresholds)
         .map_err(AppError::Compare)?;

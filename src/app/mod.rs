@@ -1,17 +1,22 @@
 //! The commands: `run`, `scenes`, `check` and `compare`, from parsed flags to outputs.
 //!
 //! [`run`] is what `main` calls. Every command first turns its flags and the
-//! scene into validated settings (bad input: [`AppError::exit_code`] 2),
-//! and only then starts work (failures: exit code 1).
+//! scene into validated settings, then checks what the run needs against
+//! this machine and the built simulation (`preflight.rs`: memory, the
+//! adapter's image size, the starting energy, the barrier stiffness) — bad
+//! input, [`AppError::exit_code`] 2 — and only then starts work (failures:
+//! exit code 1). A finished run reports what went wrong without stopping it
+//! in its [`RunHealth`] summary.
 
 mod app_error;
 mod check_command;
 mod cli;
 mod compare_command;
+mod preflight;
 mod progress;
-mod render_glue;
 mod render_stage;
 mod run_command;
+mod run_health;
 mod scenes_command;
 
 pub use app_error::AppError;
@@ -19,9 +24,11 @@ pub use cli::{
     CheckArgs, Cli, Command, CompareArgs, RunArgs, ScenesAction, ScenesArgs, VideoChoice,
 };
 pub use progress::{Progress, ProgressMode};
+pub use run_health::RunHealth;
 
 use crate::scene::{SceneConfig, SceneError, SceneOverride};
-use crate::sim::Simulation;
+use crate::sim::{SimError, Simulation};
+use preflight::SceneInput;
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<(), AppError> {
@@ -44,14 +51,20 @@ fn scene_overrides(set: &[String]) -> Result<Vec<SceneOverride>, SceneError> {
     set.iter().map(|s| s.parse()).collect()
 }
 
-/// Builds a scene's mesh and simulation (no steps taken); mesh and setup
-/// errors name the scene.
-fn build_simulation<const D: usize>(config: &SceneConfig<D>) -> Result<Simulation<D>, AppError> {
-    let mesh = config.mesh.build().map_err(|source| AppError::Mesh {
-        scene: config.name.clone(),
-        source,
-    })?;
-    Simulation::new(
+/// Builds a scene's mesh and simulation (no steps taken), after checking
+/// that it fits in memory, and checks what only the built simulation knows:
+/// the barrier stiffness against the automatic one and a finite starting
+/// energy. Every problem is a scene error at its key.
+fn build_simulation<const D: usize>(
+    config: &SceneConfig<D>,
+    input: SceneInput,
+) -> Result<Simulation<D>, AppError> {
+    preflight::check_simulation_memory(config, input)?;
+    let mesh = config
+        .mesh
+        .build()
+        .map_err(|source| input.error("mesh", format!("cannot be meshed: {source}")))?;
+    let sim = Simulation::new(
         mesh,
         config.material.material,
         config.material.density,
@@ -59,8 +72,36 @@ fn build_simulation<const D: usize>(config: &SceneConfig<D>) -> Result<Simulatio
         config.simulation_settings(),
         config.initial_velocity,
     )
-    .map_err(|source| AppError::Setup {
-        scene: config.name.clone(),
-        source,
-    })
+    .map_err(|source| setup_error(config, input, source))?;
+    preflight::check_starting_energy(config, &sim, input)?;
+    preflight::check_barrier_stiffness(config, &sim, input)?;
+    Ok(sim)
+}
+
+/// A setting the simulation refuses, at its scene key when it has one
+/// (validation rejects these first; this keeps the message located).
+fn setup_error<const D: usize>(
+    config: &SceneConfig<D>,
+    input: SceneInput,
+    source: SimError,
+) -> AppError {
+    let key = match &source {
+        SimError::InvalidSetting { key, .. } => match *key {
+            "density" => Some("material.density"),
+            "dt" => Some("time.dt"),
+            "tolerance" | "max_iterations" | "step" => Some("solver"),
+            "pinned" => Some("effects.pinned"),
+            "a" | "kappa" => Some("effects.ground"),
+            _ => None,
+        },
+        SimError::BelowGround { .. } => Some("mesh.offset"),
+        _ => None,
+    };
+    match key {
+        Some(key) => input.error(key, source.to_string()),
+        None => AppError::Setup {
+            scene: config.name.clone(),
+            source,
+        },
+    }
 }

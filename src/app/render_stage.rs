@@ -38,7 +38,9 @@ impl RenderStage {
         frame_count: usize,
     ) -> Self {
         let pending = if settings.needs_whole_run() {
-            Pending::Deferred(Vec::with_capacity(frame_count))
+            // Grown as frames come, never reserved by the frame count: the
+            // run checked beforehand that all of them fit in memory.
+            Pending::Deferred(Vec::new())
         } else {
             Pending::Streaming(None)
         };

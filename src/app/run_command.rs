@@ -9,15 +9,15 @@
 //! rendered after the simulation (see [`RenderStage`]).
 
 use super::cli::{RunArgs, VideoChoice};
+use super::preflight::{self, SceneInput};
 use super::progress::{Progress, ProgressMode};
-use super::render_glue::render_settings;
 use super::render_stage::RenderStage;
+use super::run_health::RunHealth;
 use super::{AppError, build_simulation, scene_overrides};
 use crate::energy::ElementField;
 use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
 use crate::render::{
-    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, adapter_description, check_video_support,
-    video_file_name,
+    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support, video_file_name,
 };
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
 use std::path::PathBuf;
@@ -63,11 +63,16 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         render: !args.no_render,
         save_meshes: args.save_meshes,
         force: args.force,
+        strict: args.strict,
         progress: ProgressMode::detect(args.quiet),
     };
+    let input = SceneInput {
+        source: &source,
+        overrides: &overrides,
+    };
     match &scene {
-        Scene::Two(config) => run_scene(config, &plan),
-        Scene::Three(config) => run_scene(config, &plan),
+        Scene::Two(config) => run_scene(config, &plan, input),
+        Scene::Three(config) => run_scene(config, &plan, input),
     }
 }
 
@@ -79,6 +84,7 @@ struct Plan {
     render: bool,
     save_meshes: bool,
     force: bool,
+    strict: bool,
     progress: ProgressMode,
 }
 
@@ -101,17 +107,41 @@ fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
     Ok(videos)
 }
 
-fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(), AppError> {
+impl Plan {
+    /// The top-level names this run writes in its folder.
+    fn writes(&self) -> Vec<&'static str> {
+        let mut names = vec!["scene.toml", "stats.csv"];
+        if self.save_meshes {
+            names.push("meshes");
+        }
+        if self.render {
+            names.push("frames");
+            names.extend(self.videos.iter().map(|v| video_file_name(*v)));
+        }
+        names
+    }
+}
+
+fn run_scene<const D: usize>(
+    config: &SceneConfig<D>,
+    plan: &Plan,
+    input: SceneInput,
+) -> Result<(), AppError> {
     let name = config.name.clone();
-    let mut sim = build_simulation(config)?;
+    if plan.render && config.render.needs_whole_run() {
+        preflight::check_kept_frames(config, input)?;
+    }
+    let mut sim = build_simulation(config, input)?;
     let render_mesh = plan.render.then(|| RenderMesh::from_mesh(sim.mesh()));
     if plan.render {
-        // No graphics adapter: fail now, not after the simulation.
-        adapter_description().map_err(AppError::Render)?;
+        // No graphics adapter, or an image it cannot hold: fail now, not
+        // after the simulation.
+        preflight::check_image_size(&config.render, input)?;
     }
 
-    // 2. The output folder: refused (untouched) when it holds anything, unless --force.
-    let out = OutputDir::check(&plan.out, plan.force)?;
+    // 2. The output folder: refused (untouched) when it holds anything, unless
+    //    --force; even then links and things in the way of the outputs are.
+    let out = OutputDir::check(&plan.out, plan.force, &plan.writes())?;
     out.prepare()?;
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
     let mut stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
@@ -122,7 +152,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
     };
     let frames = config.time.frames;
     let mut render = render_mesh.map(|render_mesh| {
-        let settings = render_settings(&config.render, config.effects.ground.map(|g| g.height));
+        let settings = config.render.clone();
         let outputs = RenderOutputs {
             frames_dir: out.join("frames"),
             video_dir: out.path().to_owned(),
@@ -134,7 +164,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
 
     // 3. Simulate frame by frame, streaming the data outputs (and the images
     //    when the renderer can take them now).
-    let field = config.render.field.element_field();
+    let field = config.field.element_field();
     let field_name = match field {
         ElementField::EnergyDensity => "energy_density",
         ElementField::VonMises => "von_mises",
@@ -147,6 +177,7 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
         "simulate"
     };
     let mut progress = Progress::start(plan.progress, label, frames);
+    let mut health = RunHealth::new();
     for frame in 0..frames {
         let frame_stats = if frame == 0 {
             sim.frame_stats()
@@ -159,6 +190,8 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
                 })?
         };
         stats.write_frame(frame, &frame_stats)?;
+        let steps = if frame == 0 { 0 } else { config.time.substeps };
+        health.add(frame, steps, &frame_stats);
         if meshes.is_some() || render.is_some() {
             let values = sim.element_field(field);
             if let Some(writer) = &mut meshes {
@@ -204,6 +237,18 @@ fn run_scene<const D: usize>(config: &SceneConfig<D>, plan: &Plan) -> Result<(),
             out.path().display(),
             wrote.join(", ")
         );
+    }
+
+    // 5. Say what went wrong without stopping the run (always, even when quiet).
+    if health.has_problems() {
+        let summary = health.summary(config.solver.max_iterations);
+        if plan.strict {
+            return Err(AppError::Unhealthy {
+                scene: name,
+                summary,
+            });
+        }
+        eprintln!("warning: {name}: health: {summary}");
     }
     Ok(())
 }

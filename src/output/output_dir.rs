@@ -20,10 +20,29 @@ pub struct OutputDir {
     path: PathBuf,
 }
 
+/// Whether elasto writes or clears an entry of this name at the top of its folder
+/// (its files, its sub-folders, and the hidden partial videos).
+fn ours_at_top(name: &str) -> bool {
+    OWNED_FILES.contains(&name)
+        || OWNED_FOLDERS.contains(&name)
+        || (name.starts_with(".video.") && name.ends_with(".partial"))
+}
+
+/// Whether elasto writes or clears an entry of this name inside `frames/` or
+/// `meshes/` (frames, their hidden partial files, the ParaView collection).
+fn ours_inside(name: &str) -> bool {
+    (name.starts_with("frame_") && (name.ends_with(".png") || name.ends_with(".vtu")))
+        || name == "frames.pvd"
+        || (name.starts_with(".frame_") && name.ends_with(".partial"))
+}
+
 impl OutputDir {
     /// Checks `path` without touching anything: it must not exist, be an
-    /// empty folder, or (with `force`) be a folder.
-    pub fn check(path: &Path, force: bool) -> Result<Self, OutputError> {
+    /// empty folder, or (with `force`) be a folder in which nothing elasto
+    /// replaces or clears is a symbolic link, and nothing else sits where
+    /// this run writes one of `writes` (top-level names: `scene.toml`,
+    /// `frames`, `video.png`, ...).
+    pub fn check(path: &Path, force: bool, writes: &[&str]) -> Result<Self, OutputError> {
         if path.exists() {
             if !path.is_dir() {
                 return Err(OutputError::NotADirectory {
@@ -32,10 +51,13 @@ impl OutputDir {
             }
             let mut entries =
                 std::fs::read_dir(path).map_err(OutputError::io("read folder", path))?;
-            if entries.next().is_some() && !force {
-                return Err(OutputError::NotEmpty {
-                    path: path.to_owned(),
-                });
+            if entries.next().is_some() {
+                if !force {
+                    return Err(OutputError::NotEmpty {
+                        path: path.to_owned(),
+                    });
+                }
+                check_entries(path, writes)?;
             }
         }
         Ok(Self {
@@ -47,6 +69,7 @@ impl OutputDir {
     /// (only files elasto writes: `scene.toml`, `stats.csv`, `video.*`,
     /// `frames/frame_*.png`, `meshes/frame_*.vtu`, `meshes/frames.pvd`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
+    /// [`OutputDir::check`] has made sure that none of these is a link.
     pub fn prepare(&self) -> Result<(), OutputError> {
         std::fs::create_dir_all(&self.path)
             .map_err(OutputError::io("create folder", &self.path))?;
@@ -63,10 +86,7 @@ impl OutputDir {
             for entry in entries {
                 let entry = entry.map_err(OutputError::io("read folder", &folder))?;
                 let name = entry.file_name().to_string_lossy().into_owned();
-                let ours = (name.starts_with("frame_")
-                    && (name.ends_with(".png") || name.ends_with(".vtu")))
-                    || name == "frames.pvd";
-                if ours {
+                if ours_inside(&name) && !name.ends_with(".partial") {
                     remove_if_file(&entry.path())?;
                 }
             }
@@ -92,6 +112,71 @@ impl OutputDir {
     }
 }
 
+/// Refuses links among the entries elasto replaces or clears, and anything
+/// that is not a file (or not a folder) where this run writes one.
+fn check_entries(path: &Path, writes: &[&str]) -> Result<(), OutputError> {
+    let kind = |meta: &std::fs::Metadata| {
+        if meta.is_dir() {
+            "a folder"
+        } else if meta.is_file() {
+            "a file"
+        } else {
+            "a special file"
+        }
+    };
+    let entries = std::fs::read_dir(path).map_err(OutputError::io("read folder", path))?;
+    for entry in entries {
+        let entry = entry.map_err(OutputError::io("read folder", path))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !ours_at_top(&name) {
+            continue;
+        }
+        let entry_path = entry.path();
+        let meta = std::fs::symlink_metadata(&entry_path)
+            .map_err(OutputError::io("inspect", &entry_path))?;
+        if meta.file_type().is_symlink() {
+            return Err(OutputError::Symlink { path: entry_path });
+        }
+        let folder = OWNED_FOLDERS.contains(&name.as_str());
+        if writes.contains(&name.as_str()) && meta.is_dir() != folder {
+            return Err(OutputError::InTheWay {
+                path: entry_path,
+                found: kind(&meta),
+                expected: if folder {
+                    "a folder of frames"
+                } else {
+                    "a file"
+                },
+            });
+        }
+        if folder && meta.is_dir() {
+            let inner = std::fs::read_dir(&entry_path)
+                .map_err(OutputError::io("read folder", &entry_path))?;
+            for item in inner {
+                let item = item.map_err(OutputError::io("read folder", &entry_path))?;
+                let item_name = item.file_name().to_string_lossy().into_owned();
+                if !ours_inside(&item_name) {
+                    continue;
+                }
+                let item_path = item.path();
+                let meta = std::fs::symlink_metadata(&item_path)
+                    .map_err(OutputError::io("inspect", &item_path))?;
+                if meta.file_type().is_symlink() {
+                    return Err(OutputError::Symlink { path: item_path });
+                }
+                if writes.contains(&name.as_str()) && !meta.is_file() {
+                    return Err(OutputError::InTheWay {
+                        path: item_path,
+                        found: kind(&meta),
+                        expected: "a file",
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 fn remove_if_file(path: &Path) -> Result<(), OutputError> {
     if path.is_file() {
         std::fs::remove_file(path).map_err(OutputError::io("remove", path))?;
@@ -106,8 +191,8 @@ mod tests {
     #[test]
     fn missing_and_empty_folders_are_accepted() {
         let tmp = tempfile::tempdir().unwrap();
-        assert!(OutputDir::check(&tmp.path().join("new"), false).is_ok());
-        assert!(OutputDir::check(tmp.path(), false).is_ok());
+        assert!(OutputDir::check(&tmp.path().join("new"), false, &[]).is_ok());
+        assert!(OutputDir::check(tmp.path(), false, &[]).is_ok());
     }
 
     #[test]
@@ -118,11 +203,11 @@ mod tests {
         std::fs::create_dir(tmp.path().join("frames")).unwrap();
         std::fs::write(tmp.path().join("frames/frame_0009.png"), "old").unwrap();
         std::fs::write(tmp.path().join("frames/keep.png"), "mine").unwrap();
-        let err = OutputDir::check(tmp.path(), false).unwrap_err();
+        let err = OutputDir::check(tmp.path(), false, &[]).unwrap_err();
         assert!(matches!(err, OutputError::NotEmpty { .. }));
         assert!(err.to_string().contains(&tmp.path().display().to_string()));
 
-        let dir = OutputDir::check(tmp.path(), true).unwrap();
+        let dir = OutputDir::check(tmp.path(), true, &["frames"]).unwrap();
         dir.prepare().unwrap();
         assert_eq!(
             std::fs::read_to_string(tmp.path().join("notes.txt")).unwrap(),
@@ -142,8 +227,97 @@ mod tests {
         let file = tmp.path().join("out");
         std::fs::write(&file, "x").unwrap();
         assert!(matches!(
-            OutputDir::check(&file, true),
+            OutputDir::check(&file, true, &[]),
             Err(OutputError::NotADirectory { .. })
         ));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn links_among_elastos_files_are_refused_and_left_alone() {
+        let tmp = tempfile::tempdir().unwrap();
+        let elsewhere = tmp.path().join("elsewhere");
+        std::fs::create_dir(&elsewhere).unwrap();
+        std::fs::write(elsewhere.join("frame_0042.png"), "theirs").unwrap();
+        std::fs::write(elsewhere.join("stats.csv"), "theirs").unwrap();
+        let cases: &[(&str, &str)] = &[
+            ("frames", "elsewhere"),
+            ("meshes", "elsewhere"),
+            ("stats.csv", "elsewhere/stats.csv"),
+            (".video.png.partial", "elsewhere/stats.csv"),
+            ("frames/frame_0001.png", "../elsewhere/frame_0042.png"),
+            (
+                "frames/.frame_0001.png.partial",
+                "../elsewhere/frame_0042.png",
+            ),
+        ];
+        for (link, target) in cases {
+            let out = tmp.path().join("out");
+            let _ = std::fs::remove_dir_all(&out);
+            std::fs::create_dir_all(out.join("frames")).unwrap();
+            if *link != "frames" {
+                std::fs::write(out.join("frames/frame_0000.png"), "old").unwrap();
+            } else {
+                std::fs::remove_dir(out.join("frames")).unwrap();
+            }
+            let target = if target.starts_with("..") {
+                PathBuf::from(target)
+            } else {
+                elsewhere.join(
+                    target
+                        .trim_start_matches("elsewhere")
+                        .trim_start_matches('/'),
+                )
+            };
+            std::os::unix::fs::symlink(&target, out.join(link)).unwrap();
+            let err = OutputDir::check(&out, true, &["scene.toml", "frames"]).unwrap_err();
+            assert!(matches!(err, OutputError::Symlink { .. }), "{link}: {err}");
+            assert!(err.to_string().contains(link), "{err}");
+            assert_eq!(
+                std::fs::read_to_string(elsewhere.join("frame_0042.png")).unwrap(),
+                "theirs"
+            );
+        }
+        // A link elasto does not write to is the user's own and stays allowed.
+        let out = tmp.path().join("mine");
+        std::fs::create_dir(&out).unwrap();
+        std::os::unix::fs::symlink(&elsewhere, out.join("notes")).unwrap();
+        OutputDir::check(&out, true, &["frames"])
+            .unwrap()
+            .prepare()
+            .unwrap();
+        assert!(elsewhere.join("frame_0042.png").exists());
+    }
+
+    #[test]
+    fn something_else_where_the_run_writes_is_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        std::fs::write(tmp.path().join("frames"), "a file").unwrap();
+        let err = OutputDir::check(tmp.path(), true, &["scene.toml", "frames"]).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                OutputError::InTheWay {
+                    found: "a file",
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        // A run that writes no frames does not mind.
+        OutputDir::check(tmp.path(), true, &["scene.toml", "stats.csv"]).unwrap();
+        std::fs::remove_file(tmp.path().join("frames")).unwrap();
+        std::fs::create_dir(tmp.path().join("stats.csv")).unwrap();
+        let err = OutputDir::check(tmp.path(), true, &["stats.csv"]).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                OutputError::InTheWay {
+                    found: "a folder",
+                    ..
+                }
+            ),
+            "{err}"
+        );
     }
 }

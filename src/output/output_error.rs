@@ -19,6 +19,27 @@ pub enum OutputError {
         /// The path.
         path: PathBuf,
     },
+    /// A file or folder elasto would replace or clear is a symbolic link:
+    /// writing through it could touch files outside the output folder.
+    #[error(
+        "{path} is a symbolic link; elasto never deletes or writes through links in its output folder: remove the link or choose another folder with --out"
+    )]
+    Symlink {
+        /// The link.
+        path: PathBuf,
+    },
+    /// Something else sits where the run writes a file or a folder.
+    #[error(
+        "{path} is {found}, where this run writes {expected}; move it away or choose another folder with --out"
+    )]
+    InTheWay {
+        /// The path.
+        path: PathBuf,
+        /// What is there ("a file", "a folder").
+        found: &'static str,
+        /// What the run writes there ("the folder of frames", ...).
+        expected: &'static str,
+    },
     /// An I/O operation on a file or folder failed.
     #[error("cannot {action} {path}")]
     Io {

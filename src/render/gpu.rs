@@ -53,6 +53,13 @@ pub fn adapter_description() -> Result<String, RenderError> {
     Ok(shared_gpu()?.description.clone())
 }
 
+/// The largest image the device renders: its largest texture side in
+/// pixels and its largest buffer in bytes (an image is read back through one).
+pub fn max_image_size() -> Result<(u32, u64), RenderError> {
+    let gpu = shared_gpu()?;
+    Ok((gpu.max_texture_side, gpu.device.limits().max_buffer_size))
+}
+
 fn backends() -> wgpu::Backends {
     wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY | wgpu::Backends::GL)
 }

@@ -36,7 +36,7 @@ mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
 pub use export::{check_video_support, frame_file_name, write_png};
-pub use gpu::adapter_description;
+pub use gpu::{adapter_description, max_image_size};
 pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
 pub use partial_file::remove_partial_files;
 pub use renderer::{FrameTimings, Renderer};
@@ -108,7 +108,9 @@ pub enum Colouring {
     Flat([f32; 3]),
 }
 
-/// Settings of a render run.
+/// Settings of a render run. A scene's `[render]` table is validated into
+/// this type directly (`crate::scene`), so the scene and the renderer share
+/// one definition; its defaults are the scene file's.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RenderSettings {
     /// Image width in pixels (default: 1280).
@@ -119,10 +121,10 @@ pub struct RenderSettings {
     pub camera: Camera,
     /// Colouring (default: scalar, automatic range, label "value").
     pub colouring: Colouring,
-    /// Background colour, linear RGB (default: `[0.913; 3]`, sRGB 245 grey).
+    /// Background colour, linear RGB (default: `[0.95; 3]`, a light grey, as in scene files).
     /// 3D scenes shade it into a soft vertical gradient.
     pub background: [f32; 3],
-    /// Ground height along y, in scene units, drawn when present (default: none).
+    /// Ground height along y, in length units, drawn when present (default: none).
     pub ground_height: Option<f32>,
     /// Draw mesh edges (default: true).
     pub draw_edges: bool,
@@ -151,8 +153,8 @@ impl Default for RenderSettings {
                 range: None,
                 label: "value",
             },
-            // sRGB 245/255: a light, paper-like grey.
-            background: [0.913; 3],
+            // A light, paper-like grey: the scene files' default.
+            background: [0.95; 3],
             ground_height: None,
             draw_edges: true,
             draw_legend: true,

@@ -3,8 +3,10 @@
 //! A scene is read once, before any work starts: the TOML text (a file or a
 //! built-in scene) is parsed, command-line overrides (`--set key.path=value`,
 //! `--frames`, `--resolution`) are applied to the parsed table, serde turns it
-//! into raw structs that deny unknown keys, and validation turns those into a
-//! [`Scene`] with every default filled in. Every error names the source file
+//! into raw structs that deny unknown keys, and the validator turns those into
+//! a [`Scene`] of typed settings with every default filled in (the settings
+//! in `scene_config.rs`, the validator in `scene_validator.rs`; the render
+//! settings are the renderer's own [`RenderSettings`](crate::render::RenderSettings)). Every error names the source file
 //! (or the flag), the dotted key and, for values in the file, the line:
 //!
 //! ```text
@@ -21,14 +23,16 @@ mod scene_document;
 mod scene_error;
 mod scene_override;
 mod scene_source;
+mod scene_validator;
 
 pub use scene_config::{
     BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
     DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, MAX_RESOLUTION, MaterialConfig, RenderConfig, Scene,
-    SceneConfig, TimeConfig,
+    DEFAULT_TOLERANCE, FieldChoice, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES, MAX_NAME_BYTES,
+    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, Scene, SceneConfig, TimeConfig,
+    image_bytes,
 };
-pub use scene_error::{Diagnostic, Origin, SceneError};
+pub use scene_error::{Diagnostic, Origin, SceneError, approx, num};
 pub use scene_override::SceneOverride;
 pub use scene_source::{BUILTIN_SCENES, BuiltinScene, DEFAULT_SCENE, SceneSource, builtin_scene};

@@ -1,9 +1,12 @@
 //! The scene file as written: serde structs mirroring the TOML, before validation.
 //!
-//! Every table denies unknown keys. Optional keys are `Option`s here; the
-//! validated [`Scene`](super::Scene) fills in defaults, and
-//! [`RawScene::resolved`](super::Scene::resolved_toml) writes the filled-in
-//! form back so a run can be reproduced exactly.
+//! Whole numbers are `i64` (what TOML holds) so that the validator, not
+//! serde, reports a negative count with its range. Every table denies
+//! unknown keys and says "expected a table" rather than its Rust name. Optional keys are `Option`s here; the
+//! validator (`scene_validator.rs`) fills in defaults for the typed
+//! [`Scene`](super::Scene) and writes the filled-in raw form back
+//! ([`Scene::load_resolved`](super::Scene::load_resolved)) so a run can be
+//! reproduced exactly.
 
 use crate::integrator::IntegratorKind;
 use crate::material::MaterialModel;
@@ -11,11 +14,11 @@ use serde::{Deserialize, Serialize};
 
 /// The whole scene file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawScene {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    pub dimension: u64,
+    pub dimension: i64,
     pub mesh: RawMesh,
     pub material: RawMaterial,
     #[serde(default)]
@@ -26,6 +29,27 @@ pub(crate) struct RawScene {
     pub effects: RawEffects,
     #[serde(default)]
     pub render: RawRender,
+}
+
+/// The names a key of enum type accepts, for messages (`` `stvk` or `neo-hookean` ``).
+/// Material models and integrators are listed from their own enums.
+pub(crate) fn choices(key: &str) -> Option<String> {
+    let listed = |names: &[&str]| match names {
+        [] => String::new(),
+        [one] => format!("`{one}`"),
+        [init @ .., last] => {
+            let init: Vec<String> = init.iter().map(|n| format!("`{n}`")).collect();
+            format!("{} or `{last}`", init.join(", "))
+        }
+    };
+    Some(match key {
+        "mesh.generator" => listed(&["box"]),
+        "material.model" => listed(&MaterialModel::ALL.map(MaterialModel::name)),
+        "time.integrator" => listed(&IntegratorKind::ALL.map(IntegratorKind::name)),
+        "solver.method" => listed(&["newton", "gradient-descent"]),
+        "render.field" => listed(&["energy-density", "von-mises", "volume-ratio", "flat"]),
+        _ => return None,
+    })
 }
 
 /// Mesh generators.
@@ -39,12 +63,12 @@ pub(crate) enum Generator {
 
 /// `[mesh]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawMesh {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generator: Option<Generator>,
     pub size: Vec<f64>,
-    pub cells: Vec<u64>,
+    pub cells: Vec<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub offset: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -53,7 +77,7 @@ pub(crate) struct RawMesh {
 
 /// `[material]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawMaterial {
     pub model: MaterialModel,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -70,16 +94,16 @@ pub(crate) struct RawMaterial {
 
 /// `[time]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawTime {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fps: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub substeps: Option<u64>,
+    pub substeps: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub frames: Option<u64>,
+    pub frames: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -99,21 +123,21 @@ pub(crate) enum Method {
 
 /// `[solver]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawSolver {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub method: Option<Method>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub max_iterations: Option<u64>,
+    pub max_iterations: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
 }
 
 /// `[effects]`: each sub-table present is an effect that exists.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawEffects {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gravity: Option<RawGravity>,
@@ -125,14 +149,14 @@ pub(crate) struct RawEffects {
 
 /// `[effects.gravity]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawGravity {
     pub acceleration: Vec<f64>,
 }
 
 /// `[effects.ground]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawGround {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height: Option<f64>,
@@ -144,7 +168,7 @@ pub(crate) struct RawGround {
 
 /// `[effects.pinned]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawPinned {
     pub min: Vec<f64>,
     pub max: Vec<f64>,
@@ -167,10 +191,10 @@ pub(crate) enum FieldName {
 
 /// `[render]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawRender {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub resolution: Option<Vec<u64>>,
+    pub resolution: Option<Vec<i64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field: Option<FieldName>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -189,7 +213,7 @@ pub(crate) struct RawRender {
 
 /// `[render.camera]`: 2D keys (`center`, `height`) or 3D keys (`eye`, `target`, `fov`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawCamera {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub center: Option<Vec<f64>>,
@@ -201,4 +225,49 @@ pub(crate) struct RawCamera {
     pub target: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fov: Option<f64>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(key: &str) -> Vec<String> {
+        choices(key)
+            .unwrap()
+            .as_str()
+            .split('`')
+            .skip(1)
+            .step_by(2)
+            .map(str::to_owned)
+            .collect()
+    }
+
+    /// The names listed in messages are exactly the ones serde accepts.
+    #[test]
+    fn listed_choices_are_the_accepted_names() {
+        fn accepts<T: serde::de::DeserializeOwned>(name: &str) -> bool {
+            toml::Value::String(name.to_owned()).try_into::<T>().is_ok()
+        }
+        for name in names("mesh.generator") {
+            assert!(accepts::<Generator>(&name), "{name}");
+        }
+        assert_eq!(names("material.model"), ["stvk", "neo-hookean"]);
+        for name in names("material.model") {
+            assert!(accepts::<MaterialModel>(&name), "{name}");
+        }
+        assert_eq!(names("time.integrator"), ["backward-euler"]);
+        for name in names("time.integrator") {
+            assert!(accepts::<IntegratorKind>(&name), "{name}");
+        }
+        assert_eq!(names("solver.method").len(), 2);
+        for name in names("solver.method") {
+            assert!(accepts::<Method>(&name), "{name}");
+        }
+        assert_eq!(names("render.field").len(), 4);
+        for name in names("render.field") {
+            assert!(accepts::<FieldName>(&name), "{name}");
+        }
+        assert!(!accepts::<MaterialModel>("rubber"));
+        assert_eq!(choices("material.young"), None);
+    }
 }

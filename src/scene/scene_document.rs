@@ -8,8 +8,8 @@
 //! carries a span, so it can say whether the bad value came from the file
 //! (then with its line and column) or from which flag, and which key it is.
 
-use super::raw_scene::RawScene;
-use super::scene_error::{Diagnostic, Origin, SceneError};
+use super::raw_scene::{RawScene, choices};
+use super::scene_error::{Diagnostic, Origin, SceneError, num};
 use super::{SceneOverride, SceneSource};
 use serde::Deserialize;
 use std::borrow::Cow;
@@ -38,6 +38,14 @@ impl<'a> SceneDocument<'a> {
             if reason.ends_with(':') {
                 reason.pop();
             }
+            let mut key = None;
+            if let Some(span) = e
+                .span()
+                .filter(|_| e.message().starts_with("duplicate key"))
+            {
+                key = duplicate_key(&source.text, span);
+                reason = "is given more than once (invalid TOML: duplicate key)".to_owned();
+            }
             let origin = e
                 .span()
                 .map(|s| file_position(&source.text, s.start))
@@ -45,7 +53,7 @@ impl<'a> SceneDocument<'a> {
             SceneError::Invalid(Box::new(Diagnostic {
                 source: source.label.clone(),
                 origin,
-                key: None,
+                key,
                 reason,
             }))
         })?;
@@ -79,8 +87,8 @@ impl<'a> SceneDocument<'a> {
             SceneError::Invalid(Box::new(Diagnostic {
                 source: self.source.label.clone(),
                 origin,
+                reason: plain_reason(key.as_deref(), e.message().trim_end()),
                 key,
-                reason: e.message().trim_end().to_owned(),
             }))
         })
     }
@@ -124,6 +132,81 @@ impl<'a> SceneDocument<'a> {
             file_position(&self.source.text, span.start)
         }
     }
+}
+
+/// A serde message in the words of the scene file: TOML types instead of
+/// Rust ones, and the accepted names where a name is expected.
+fn plain_reason(key: Option<&str>, message: &str) -> String {
+    if message.contains("wanted string or table") {
+        return match key.and_then(choices) {
+            Some(names) => format!("expected one of {names}"),
+            None if key.is_some_and(|k| TABLES.contains(&k)) => "expected a table".to_owned(),
+            None => "expected a string".to_owned(),
+        };
+    }
+    let mut reason = message.to_owned();
+    for (rust, toml) in [
+        ("expected i64", "expected a whole number"),
+        ("expected u64", "expected a whole number"),
+        ("expected f64", "expected a number"),
+        ("expected a sequence", "expected an array"),
+        ("invalid type: sequence", "invalid type: array"),
+        ("invalid type: map", "invalid type: table"),
+        ("floating point", "number"),
+    ] {
+        reason = reason.replace(rust, toml);
+    }
+    // serde spells floats out in full (`1e300` as 301 digits).
+    if let Some(start) = reason.find("number `").map(|i| i + "number `".len())
+        && let Some(len) = reason[start..].find('`')
+        && let Ok(x) = reason[start..start + len].parse::<f64>()
+    {
+        reason.replace_range(start..start + len, &num(x));
+    }
+    reason
+}
+
+/// The keys that hold tables.
+const TABLES: &[&str] = &[
+    "mesh",
+    "material",
+    "time",
+    "solver",
+    "effects",
+    "effects.gravity",
+    "effects.ground",
+    "effects.pinned",
+    "render",
+    "render.camera",
+];
+
+/// The dotted key of a duplicate-key error at `span`: the key text there,
+/// inside the table whose header comes last before it.
+fn duplicate_key(text: &str, span: Range<usize>) -> Option<String> {
+    let token = text.get(span.clone())?.trim().trim_matches('"');
+    if token.is_empty() || token.contains('\n') {
+        return None;
+    }
+    let line_start = text[..span.start].rfind('\n').map_or(0, |i| i + 1);
+    if text[line_start..span.start].trim_start().starts_with('[') {
+        // The header itself is repeated: `[material]` twice.
+        return Some(token.to_owned());
+    }
+    let table = text[..line_start].lines().rev().find_map(|line| {
+        let line = line.trim();
+        line.starts_with('[').then(|| {
+            line.trim_start_matches('[')
+                .split(']')
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_owned()
+        })
+    });
+    Some(match table {
+        Some(table) if !table.is_empty() => format!("{table}.{token}"),
+        _ => token.to_owned(),
+    })
 }
 
 /// 1-based line and column (in characters) of a byte offset.

@@ -1,0 +1,898 @@
+//! The validator: turns the raw scene document into the typed settings of
+//! [`Scene`], reporting every problem at its file position (or flag) and
+//! dotted key.
+//!
+//! It is the only code that reads [`RawScene`]; it returns the typed scene
+//! together with the resolved raw form (every default written out), which is
+//! what `scene.toml` of a run holds.
+
+use super::SceneError;
+use super::raw_scene::{
+    FieldName, Generator, Method, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
+    RawRender, RawScene, RawSolver, RawTime,
+};
+use super::scene_config::{
+    BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
+    DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
+    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
+    DEFAULT_TOLERANCE, FieldChoice, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES, MAX_NAME_BYTES,
+    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, Scene, SceneConfig, TimeConfig,
+    image_bytes,
+};
+use super::scene_document::SceneDocument;
+use super::scene_error::{approx, num, nums};
+use crate::energy::ElementField;
+use crate::material::{LameParameters, YoungPoisson};
+use crate::math::{UP_AXIS, Vector};
+use crate::render::{Camera, Colouring, RenderSettings};
+use crate::sim::{Effects, Ground, PinRegion};
+use crate::solver::{SolverMethod, SolverSettings};
+
+/// Turns a [`RawScene`] into a [`Scene`] plus the resolved raw form,
+/// reporting each problem at its key.
+pub(crate) struct SceneValidator<'d, 'a> {
+    doc: &'d SceneDocument<'a>,
+}
+
+type VResult<T> = std::result::Result<T, SceneError>;
+
+impl<'d, 'a> SceneValidator<'d, 'a> {
+    /// A validator whose messages point into `doc`.
+    pub fn new(doc: &'d SceneDocument<'a>) -> Self {
+        Self { doc }
+    }
+
+    /// The typed scene and its resolved raw form.
+    pub fn scene(&self, raw: &RawScene) -> VResult<(Scene, RawScene)> {
+        match raw.dimension {
+            2 => self.scene_d::<2>(raw).map(|(c, r)| (Scene::Two(c), r)),
+            3 => self.scene_d::<3>(raw).map(|(c, r)| (Scene::Three(c), r)),
+            d => Err(self.err("dimension", format!("must be 2 or 3, got {d}"))),
+        }
+    }
+
+    fn err(&self, key: &str, reason: impl Into<String>) -> SceneError {
+        self.doc.error(key, reason)
+    }
+
+    fn scene_d<const D: usize>(&self, raw: &RawScene) -> VResult<(SceneConfig<D>, RawScene)> {
+        let name = self.name(raw.name.as_deref())?;
+        let (mesh, initial_velocity, raw_mesh) = self.mesh::<D>(&raw.mesh)?;
+        let (material, raw_material) = self.material(&raw.material)?;
+        self.mass(&mesh, material.density)?;
+        let (time, raw_time) = self.time(&raw.time)?;
+        let (solver, raw_solver) = self.solver(&raw.solver)?;
+        let (effects, raw_effects) = self.effects::<D>(&raw.effects, &mesh)?;
+        let ground_height = effects.ground.map(|g| g.height);
+        let (field, render, raw_render) = self.render::<D>(&raw.render, ground_height)?;
+        let config = SceneConfig {
+            name: name.clone(),
+            mesh,
+            initial_velocity,
+            material,
+            time,
+            solver,
+            effects,
+            field,
+            render,
+        };
+        let resolved = RawScene {
+            name: Some(name),
+            dimension: D as i64,
+            mesh: raw_mesh,
+            material: raw_material,
+            time: raw_time,
+            solver: raw_solver,
+            effects: raw_effects,
+            render: raw_render,
+        };
+        Ok((config, resolved))
+    }
+
+    /// The scene's name: it names the folder `out/NAME`, so it must be one
+    /// plain folder name, never a path.
+    fn name(&self, given: Option<&str>) -> VResult<String> {
+        let name = given.unwrap_or(&self.doc.source().default_name);
+        let problem = if name.trim().is_empty() {
+            Some("must not be empty".to_owned())
+        } else if name.chars().any(char::is_control) {
+            Some(format!("must not contain control characters, got {name:?}"))
+        } else if name.contains(['/', '\\'])
+            || !matches!(
+                std::path::Path::new(name).components().collect::<Vec<_>>()[..],
+                [std::path::Component::Normal(_)]
+            )
+        {
+            Some(format!(
+                "must be a plain name, not a path ({name:?} has a path separator, `.` or `..`, \
+                 or is absolute): it names the output folder out/NAME; choose another folder \
+                 with --out"
+            ))
+        } else if name.len() > MAX_NAME_BYTES {
+            Some(format!(
+                "must be at most {MAX_NAME_BYTES} bytes long (it names a folder), got {}",
+                name.len()
+            ))
+        } else {
+            None
+        };
+        match (problem, given) {
+            (None, _) => Ok(name.to_owned()),
+            (Some(reason), Some(_)) => Err(self.err("name", reason)),
+            (Some(reason), None) => Err(self.err(
+                "name",
+                format!("the default name (the file's stem) {reason}; set `name` in the scene"),
+            )),
+        }
+    }
+
+    /// A vector of exactly `D` finite components.
+    fn vector<const D: usize>(&self, key: &str, v: &[f64]) -> VResult<Vector<D>> {
+        if v.len() != D {
+            return Err(self.err(
+                key,
+                format!("needs {D} components (dimension = {D}), got {}", v.len()),
+            ));
+        }
+        if let Some(bad) = v.iter().find(|x| !x.is_finite()) {
+            return Err(self.err(key, format!("components must be finite, got {}", num(*bad))));
+        }
+        Ok(Vector::<D>::from_fn(|i, _| v[i]))
+    }
+
+    fn positive(&self, key: &str, x: f64) -> VResult<f64> {
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(key, format!("must be a finite number > 0, got {}", num(x))))
+        }
+    }
+
+    /// A whole number from 1 to `max`.
+    fn count(&self, key: &str, n: i64, max: usize) -> VResult<usize> {
+        if n < 1 {
+            return Err(self.err(key, format!("must be at least 1, got {n}")));
+        }
+        match usize::try_from(n) {
+            Ok(n) if n <= max => Ok(n),
+            _ => Err(self.err(key, format!("must be at most {max}, got {n}"))),
+        }
+    }
+
+    /// Rendering works in 32-bit floats: `x` must stay finite (and, when
+    /// `positive`, above zero) as one.
+    fn single_precision(&self, key: &str, values: &[f64], positive: bool) -> VResult<()> {
+        for &x in values {
+            let single = x as f32;
+            let ok = single.is_finite() && (!positive || single >= f32::MIN_POSITIVE);
+            if !ok {
+                let range = if positive {
+                    "from 1.2e-38 to 3.4e38"
+                } else {
+                    "up to 3.4e38"
+                };
+                return Err(self.err(
+                    key,
+                    format!(
+                        "{} is out of the renderer's range: images are drawn in 32-bit floats, \
+                         which hold magnitudes {range}",
+                        num(x)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
+        let Generator::Box = raw.generator.unwrap_or_default();
+        let size = self.vector::<D>("mesh.size", &raw.size)?;
+        if let Some(bad) = size.iter().find(|s| **s <= 0.0) {
+            return Err(self.err(
+                "mesh.size",
+                format!("every extent must be > 0, got {}", num(*bad)),
+            ));
+        }
+        if raw.cells.len() != D {
+            return Err(self.err(
+                "mesh.cells",
+                format!(
+                    "needs {D} components (dimension = {D}), got {}",
+                    raw.cells.len()
+                ),
+            ));
+        }
+        let mut cells = [0usize; D];
+        for (c, &n) in cells.iter_mut().zip(&raw.cells) {
+            *c = self.count("mesh.cells", n, MAX_CELLS)?;
+        }
+        let total = cells.iter().try_fold(1usize, |acc, &c| acc.checked_mul(c));
+        if total.is_none_or(|n| n > MAX_CELLS) {
+            return Err(self.err(
+                "mesh.cells",
+                format!(
+                    "{:?} makes {} cells, more than the {MAX_CELLS} allowed",
+                    raw.cells,
+                    cells.iter().map(|&c| c as f64).product::<f64>()
+                ),
+            ));
+        }
+        let offset = match &raw.offset {
+            Some(v) => self.vector::<D>("mesh.offset", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        self.box_cells::<D>(&BoxMesh {
+            size,
+            cells,
+            offset,
+        })?;
+        let velocity = match &raw.velocity {
+            Some(v) => self.vector::<D>("mesh.velocity", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        let resolved = RawMesh {
+            generator: Some(Generator::Box),
+            size: size.iter().copied().collect(),
+            cells: raw.cells.clone(),
+            offset: Some(offset.iter().copied().collect()),
+            velocity: Some(velocity.iter().copied().collect()),
+        };
+        Ok((
+            BoxMesh {
+                size,
+                cells,
+                offset,
+            },
+            velocity,
+            resolved,
+        ))
+    }
+
+    /// The box generator must be able to place every cell: the corners fit
+    /// the renderer's 32-bit floats, each cell spans a resolvable step of its
+    /// coordinates, and its volume is a normal double.
+    fn box_cells<const D: usize>(&self, mesh: &BoxMesh<D>) -> VResult<()> {
+        let upper = mesh.offset + mesh.size;
+        for axis in 0..D {
+            if !upper[axis].is_finite() {
+                return Err(self.err(
+                    "mesh.size",
+                    format!(
+                        "offset + size along axis {axis} overflows: {} + {}",
+                        num(mesh.offset[axis]),
+                        num(mesh.size[axis])
+                    ),
+                ));
+            }
+        }
+        self.single_precision("mesh.offset", mesh.offset.as_slice(), false)?;
+        self.single_precision("mesh.size", upper.as_slice(), false)?;
+        let cell: Vec<f64> = (0..D)
+            .map(|a| mesh.size[a] / mesh.cells[a] as f64)
+            .collect();
+        for axis in 0..D {
+            let magnitude = mesh.offset[axis].abs().max(upper[axis].abs());
+            if !(cell[axis] >= 1e-9 * magnitude) {
+                return Err(self.err(
+                    "mesh.size",
+                    format!(
+                        "cells of {} along axis {axis} are too small to place at {} \
+                         (mesh.offset): a cell must span at least 1e-9 of its coordinates \
+                         in double precision",
+                        num(cell[axis]),
+                        num(mesh.offset[axis])
+                    ),
+                ));
+            }
+        }
+        let volume: f64 = cell.iter().product();
+        let diagonal: f64 = cell.iter().map(|h| h * h).sum();
+        if !(volume >= f64::MIN_POSITIVE && volume.is_finite() && diagonal.is_finite()) {
+            let which = if volume.is_finite() && volume < 1.0 {
+                "small: their volume underflows"
+            } else {
+                "large: their volume overflows"
+            };
+            return Err(self.err(
+                "mesh.size",
+                format!(
+                    "cells of {} are too {which} double precision; choose other length units",
+                    nums(&cell)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Masses are density times element volumes: they must be normal doubles.
+    fn mass<const D: usize>(&self, mesh: &BoxMesh<D>, density: f64) -> VResult<()> {
+        let element: f64 = (0..D)
+            .map(|a| mesh.size[a] / mesh.cells[a] as f64)
+            .product::<f64>()
+            / (1..=D + 1).product::<usize>() as f64;
+        let total = density * mesh.size.iter().product::<f64>();
+        if !(density * element >= f64::MIN_POSITIVE && total.is_finite()) {
+            return Err(self.err(
+                "material.density",
+                format!(
+                    "{} times the mesh's volume gives vertex masses outside double precision \
+                     (total mass {})",
+                    num(density),
+                    num(total)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn material(&self, raw: &RawMaterial) -> VResult<(MaterialConfig, RawMaterial)> {
+        let lame = match (raw.young, raw.poisson, raw.mu, raw.lambda) {
+            (Some(young), Some(poisson), None, None) => {
+                self.positive("material.young", young)?;
+                if !(poisson > -1.0 && poisson < 0.5) {
+                    return Err(self.err(
+                        "material.poisson",
+                        format!("must lie in (-1, 0.5), got {}", num(poisson)),
+                    ));
+                }
+                let lame = LameParameters::from(YoungPoisson { young, poisson });
+                if !(lame.mu.is_finite() && lame.lambda.is_finite()) {
+                    return Err(self.err(
+                        "material.young",
+                        format!(
+                            "{} with poisson = {} gives Lamé parameters outside double \
+                             precision (mu = {}, lambda = {})",
+                            num(young),
+                            num(poisson),
+                            num(lame.mu),
+                            num(lame.lambda)
+                        ),
+                    ));
+                }
+                lame
+            }
+            (None, None, Some(mu), Some(lambda)) => {
+                self.positive("material.mu", mu)?;
+                if !(lambda.is_finite() && 3.0 * lambda + 2.0 * mu > 0.0) {
+                    return Err(self.err(
+                        "material.lambda",
+                        format!(
+                            "must be finite with 3 lambda + 2 mu > 0 (a positive bulk modulus), got {}",
+                            num(lambda)
+                        ),
+                    ));
+                }
+                LameParameters { mu, lambda }
+            }
+            (young, poisson, mu, lambda) => {
+                let (elastic, lame) = (
+                    young.is_some() || poisson.is_some(),
+                    mu.is_some() || lambda.is_some(),
+                );
+                let (key, reason) = match (elastic, lame) {
+                    (true, true) => (
+                        if mu.is_some() { "material.mu" } else { "material.lambda" },
+                        "give either `young` and `poisson`, or `mu` and `lambda`, not both".to_owned(),
+                    ),
+                    (false, false) => (
+                        "material",
+                        "the stiffness is missing: give `young` and `poisson`, or `mu` and `lambda`".to_owned(),
+                    ),
+                    _ => {
+                        let pairs = [("young", young, "poisson", poisson), ("poisson", poisson, "young", young)]
+                            .into_iter()
+                            .chain([("mu", mu, "lambda", lambda), ("lambda", lambda, "mu", mu)]);
+                        let (given, missing) = pairs
+                            .into_iter()
+                            .find(|(_, a, _, b)| a.is_some() && b.is_none())
+                            .map(|(g, _, m, _)| (g, m))
+                            .expect("exactly one key of a pair is given");
+                        return Err(self.err(
+                            &format!("material.{missing}"),
+                            format!("is required together with `{given}`"),
+                        ));
+                    }
+                };
+                return Err(self.err(key, reason));
+            }
+        };
+        let density = self.positive("material.density", raw.density.unwrap_or(DEFAULT_DENSITY))?;
+        let material = raw.model.with_lame(lame);
+        let resolved = RawMaterial {
+            density: Some(density),
+            ..raw.clone()
+        };
+        Ok((MaterialConfig { material, density }, resolved))
+    }
+
+    fn time(&self, raw: &RawTime) -> VResult<(TimeConfig, RawTime)> {
+        let fps = self.positive("time.fps", raw.fps.unwrap_or(DEFAULT_FPS))?;
+        let substeps = match (raw.substeps, raw.dt) {
+            (None, None) => DEFAULT_SUBSTEPS,
+            (Some(n), None) => self.count("time.substeps", n, MAX_SUBSTEPS)?,
+            (substeps, Some(dt)) => {
+                let dt = self.positive("time.dt", dt)?;
+                let exact = 1.0 / (fps * dt);
+                let nearest = exact.round().max(1.0);
+                if !(nearest <= MAX_SUBSTEPS as f64) {
+                    return Err(self.err(
+                        "time.dt",
+                        format!(
+                            "{} s makes {} steps per frame of 1/{} s, more than the \
+                             {MAX_SUBSTEPS} allowed",
+                            num(dt),
+                            approx(exact),
+                            num(fps)
+                        ),
+                    ));
+                }
+                if (exact - nearest).abs() > 1e-3 * nearest {
+                    return Err(self.err(
+                        "time.dt",
+                        format!(
+                            "{} s does not split a frame of 1/{} s into whole steps ({exact:.4} steps); \
+                             use e.g. dt = {:.6e} ({nearest} steps) or give `substeps`",
+                            num(dt),
+                            num(fps),
+                            1.0 / (fps * nearest)
+                        ),
+                    ));
+                }
+                let from_dt = nearest as usize;
+                if let Some(n) = substeps.filter(|&n| n != from_dt as i64) {
+                    return Err(self.err(
+                        "time.dt",
+                        format!(
+                            "dt = {} s means {from_dt} steps per frame at {} fps, but substeps = {n}",
+                            num(dt),
+                            num(fps)
+                        ),
+                    ));
+                }
+                from_dt
+            }
+        };
+        let frames = match (raw.frames, raw.duration) {
+            (Some(_), Some(_)) => {
+                return Err(self.err("time.duration", "give `frames` or `duration`, not both"));
+            }
+            (Some(n), None) => self.count("time.frames", n, MAX_FRAMES)?,
+            (None, Some(d)) => {
+                let d = self.positive("time.duration", d)?;
+                let n = (d * fps).round();
+                if n < 1.0 {
+                    return Err(self.err(
+                        "time.duration",
+                        format!("{} s is less than one frame at {} fps", num(d), num(fps)),
+                    ));
+                }
+                if !(n <= MAX_FRAMES as f64) {
+                    return Err(self.err(
+                        "time.duration",
+                        format!(
+                            "{} s at {} fps is {} frames, more than the {MAX_FRAMES} allowed",
+                            num(d),
+                            num(fps),
+                            approx(n)
+                        ),
+                    ));
+                }
+                n as usize
+            }
+            (None, None) => DEFAULT_FRAMES,
+        };
+        let time_key = match (raw.dt, raw.frames, raw.duration) {
+            (Some(_), _, _) => "time.dt",
+            (None, Some(_), _) => "time.frames",
+            (None, None, Some(_)) => "time.duration",
+            _ => "time.substeps",
+        };
+        let steps = (frames - 1) as u64 * substeps as u64;
+        if steps > MAX_STEPS {
+            return Err(self.err(
+                time_key,
+                format!(
+                    "{frames} frames of {substeps} steps make {steps} time steps, more than the \
+                     {MAX_STEPS} allowed"
+                ),
+            ));
+        }
+        let dt = 1.0 / (fps * substeps as f64);
+        // The solver weighs the potential by dt²: it must be a normal double.
+        if !((dt * dt).is_finite() && dt * dt >= f64::MIN_POSITIVE) {
+            let key = if raw.dt.is_some() {
+                "time.dt"
+            } else {
+                "time.fps"
+            };
+            return Err(self.err(
+                key,
+                format!(
+                    "gives a time step dt = 1 / (fps × substeps) = {} s whose square is outside \
+                     double precision (the solver weighs forces by dt²)",
+                    approx(dt)
+                ),
+            ));
+        }
+        let integrator = raw.integrator.unwrap_or_default();
+        let resolved = RawTime {
+            fps: Some(fps),
+            substeps: Some(substeps as i64),
+            dt: None,
+            frames: Some(frames as i64),
+            duration: None,
+            integrator: Some(integrator),
+        };
+        Ok((
+            TimeConfig {
+                fps,
+                substeps,
+                dt,
+                frames,
+                integrator,
+            },
+            resolved,
+        ))
+    }
+
+    fn solver(&self, raw: &RawSolver) -> VResult<(SolverSettings, RawSolver)> {
+        let method = raw.method.unwrap_or_default();
+        let tolerance = self.positive(
+            "solver.tolerance",
+            raw.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+        )?;
+        let (method_settings, default_iterations, step) = match method {
+            Method::Newton => {
+                if raw.step.is_some() {
+                    return Err(self.err(
+                        "solver.step",
+                        "is only used with method = \"gradient-descent\"",
+                    ));
+                }
+                (SolverMethod::Newton, DEFAULT_NEWTON_ITERATIONS, None)
+            }
+            Method::GradientDescent => {
+                let step = self.positive(
+                    "solver.step",
+                    raw.step.unwrap_or(DEFAULT_GRADIENT_DESCENT_STEP),
+                )?;
+                (
+                    SolverMethod::GradientDescent { step },
+                    DEFAULT_GRADIENT_DESCENT_ITERATIONS,
+                    Some(step),
+                )
+            }
+        };
+        let max_iterations = match raw.max_iterations {
+            Some(n) => self.count("solver.max_iterations", n, usize::MAX)?,
+            None => default_iterations,
+        };
+        let resolved = RawSolver {
+            method: Some(method),
+            tolerance: Some(tolerance),
+            max_iterations: Some(max_iterations as i64),
+            step,
+        };
+        Ok((
+            SolverSettings {
+                method: method_settings,
+                tolerance,
+                max_iterations,
+            },
+            resolved,
+        ))
+    }
+
+    fn effects<const D: usize>(
+        &self,
+        raw: &RawEffects,
+        mesh: &BoxMesh<D>,
+    ) -> VResult<(Effects<D>, RawEffects)> {
+        let mut effects = Effects::<D>::default();
+        let mut resolved = RawEffects::default();
+        if let Some(g) = &raw.gravity {
+            effects.gravity =
+                Some(self.vector::<D>("effects.gravity.acceleration", &g.acceleration)?);
+            resolved.gravity = Some(g.clone());
+        }
+        if let Some(g) = &raw.ground {
+            let height = g.height.unwrap_or(0.0);
+            if !height.is_finite() {
+                return Err(self.err(
+                    "effects.ground.height",
+                    format!("must be finite, got {}", num(height)),
+                ));
+            }
+            self.single_precision("effects.ground.height", &[height], false)?;
+            let a = self.positive("effects.ground.a", g.a.unwrap_or(DEFAULT_BARRIER_WIDTH))?;
+            if !(1e-150..=1e150).contains(&a) {
+                return Err(self.err(
+                    "effects.ground.a",
+                    format!(
+                        "must lie in [1e-150, 1e150]: the barrier squares it, and its square \
+                         must be a normal double; got {}",
+                        num(a)
+                    ),
+                ));
+            }
+            let kappa = match g.kappa {
+                Some(k) => Some(self.positive("effects.ground.kappa", k)?),
+                None => None,
+            };
+            let bottom = mesh.offset[UP_AXIS];
+            if bottom <= height {
+                return Err(self.err(
+                    "mesh.offset",
+                    format!(
+                        "the mesh starts at height {}, on or below the ground at {} \
+                         (effects.ground.height); raise mesh.offset[{UP_AXIS}]",
+                        num(bottom),
+                        num(height)
+                    ),
+                ));
+            }
+            effects.ground = Some(Ground {
+                height,
+                activation_distance: a,
+                stiffness: kappa,
+            });
+            resolved.ground = Some(RawGround {
+                height: Some(height),
+                a: Some(a),
+                kappa,
+            });
+        }
+        if let Some(p) = &raw.pinned {
+            let min = self.vector::<D>("effects.pinned.min", &p.min)?;
+            let max = self.vector::<D>("effects.pinned.max", &p.max)?;
+            if let Some(axis) = (0..D).find(|&a| min[a] > max[a]) {
+                return Err(self.err(
+                    "effects.pinned.max",
+                    format!(
+                        "is below effects.pinned.min along axis {axis} ({} < {})",
+                        num(max[axis]),
+                        num(min[axis])
+                    ),
+                ));
+            }
+            // A vertex is pinned when it lies in the box (inclusive) at rest; the
+            // grid is a tensor product, so some vertex is caught exactly when
+            // every axis has a grid coordinate inside [min, max].
+            let catches =
+                (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a]));
+            if !catches {
+                return Err(self.err(
+                    "effects.pinned",
+                    "the region from `min` to `max` contains no mesh vertex at rest; widen it to catch the vertices to hold",
+                ));
+            }
+            let holds_all =
+                (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a]));
+            if holds_all {
+                return Err(self.err(
+                    "effects.pinned",
+                    "the region from `min` to `max` holds every mesh vertex: nothing could move; \
+                     narrow it to the vertices to hold",
+                ));
+            }
+            effects.pinned = Some(PinRegion { min, max });
+            resolved.pinned = Some(p.clone());
+        }
+        Ok((effects, resolved))
+    }
+
+    fn colour(&self, key: &str, v: Option<&Vec<f64>>, default: [f64; 3]) -> VResult<[f64; 3]> {
+        let Some(v) = v else { return Ok(default) };
+        if v.len() != 3 || v.iter().any(|c| !(0.0..=1.0).contains(c)) {
+            return Err(self.err(
+                key,
+                format!(
+                    "must be 3 components in [0, 1] (linear RGB), got {}",
+                    nums(v)
+                ),
+            ));
+        }
+        Ok([v[0], v[1], v[2]])
+    }
+
+    fn render<const D: usize>(
+        &self,
+        raw: &RawRender,
+        ground_height: Option<f64>,
+    ) -> VResult<(FieldChoice, RenderSettings, RawRender)> {
+        let resolution = match &raw.resolution {
+            None => DEFAULT_RESOLUTION,
+            Some(r) => {
+                let ok =
+                    r.len() == 2 && r.iter().all(|&p| (1..=MAX_RESOLUTION as i64).contains(&p));
+                if !ok {
+                    return Err(self.err(
+                        "render.resolution",
+                        format!("must be [width, height] in pixels, each 1..={MAX_RESOLUTION}, got {r:?}"),
+                    ));
+                }
+                let [width, height] = [r[0] as u32, r[1] as u32];
+                if image_bytes(width, height) > MAX_IMAGE_BYTES {
+                    return Err(self.err(
+                        "render.resolution",
+                        format!(
+                            "{width}x{height} is too large: an image is read back from the GPU \
+                             in one buffer of at most {} MiB (4 bytes per pixel, rows padded \
+                             to 256 bytes), this one needs {:.1} MiB",
+                            MAX_IMAGE_BYTES >> 20,
+                            image_bytes(width, height) as f64 / (1u64 << 20) as f64
+                        ),
+                    ));
+                }
+                [width, height]
+            }
+        };
+        let field = match raw.field.unwrap_or_default() {
+            FieldName::EnergyDensity => FieldChoice::Scalar(ElementField::EnergyDensity),
+            FieldName::VonMises => FieldChoice::Scalar(ElementField::VonMises),
+            FieldName::VolumeRatio => FieldChoice::Scalar(ElementField::VolumeRatio),
+            FieldName::Flat => FieldChoice::Flat,
+        };
+        let range = match &raw.range {
+            None => None,
+            Some(r) => {
+                if r.len() != 2 || !r.iter().all(|x| x.is_finite()) || r[0] >= r[1] {
+                    return Err(self.err(
+                        "render.range",
+                        format!("must be [low, high] with low < high, got {}", nums(r)),
+                    ));
+                }
+                self.single_precision("render.range", r, false)?;
+                if (r[0] as f32) >= (r[1] as f32) {
+                    return Err(self.err(
+                        "render.range",
+                        format!(
+                            "{} is too narrow for the renderer's 32-bit floats: low and high \
+                             round to the same value",
+                            nums(r)
+                        ),
+                    ));
+                }
+                Some([r[0], r[1]])
+            }
+        };
+        let colour = self.colour("render.colour", raw.colour.as_ref(), DEFAULT_COLOUR)?;
+        let background = self.colour(
+            "render.background",
+            raw.background.as_ref(),
+            DEFAULT_BACKGROUND,
+        )?;
+        let (camera, raw_camera) = match &raw.camera {
+            None => (Camera::Auto, None),
+            Some(c) => {
+                let camera = self.camera::<D>(c)?;
+                let resolved = match camera {
+                    Camera::Perspective { .. } => RawCamera {
+                        fov: Some(c.fov.unwrap_or(DEFAULT_FOV)),
+                        ..c.clone()
+                    },
+                    _ => c.clone(),
+                };
+                (camera, Some(resolved))
+            }
+        };
+        let colouring = match field {
+            FieldChoice::Flat => Colouring::Flat(colour.map(|c| c as f32)),
+            field => Colouring::Scalar {
+                range: range.map(|r| r.map(|x| x as f32)),
+                label: field.label(),
+            },
+        };
+        let settings = RenderSettings {
+            width: resolution[0],
+            height: resolution[1],
+            camera,
+            colouring,
+            background: background.map(|c| c as f32),
+            ground_height: ground_height.map(|h| h as f32),
+            draw_edges: raw.edges.unwrap_or(true),
+            draw_legend: raw.legend.unwrap_or(true),
+        };
+        let resolved = RawRender {
+            resolution: Some(resolution.iter().map(|&p| i64::from(p)).collect()),
+            field: Some(raw.field.unwrap_or_default()),
+            range: range.map(|r| r.to_vec()),
+            colour: Some(colour.to_vec()),
+            background: Some(background.to_vec()),
+            edges: Some(settings.draw_edges),
+            legend: Some(settings.draw_legend),
+            camera: raw_camera,
+        };
+        Ok((field, settings, resolved))
+    }
+
+    fn camera<const D: usize>(&self, raw: &RawCamera) -> VResult<Camera> {
+        let f32s = |v: Vector<D>| -> Vec<f32> { v.iter().map(|&x| x as f32).collect() };
+        if D == 2 {
+            for (key, present) in [
+                ("eye", raw.eye.is_some()),
+                ("target", raw.target.is_some()),
+                ("fov", raw.fov.is_some()),
+            ] {
+                if present {
+                    return Err(self.err(
+                        &format!("render.camera.{key}"),
+                        "is a 3D camera key; a 2D camera takes `center` and `height`",
+                    ));
+                }
+            }
+            let center = raw
+                .center
+                .as_ref()
+                .ok_or_else(|| self.err("render.camera.center", "is required for a 2D camera"))?;
+            let center = self.vector::<D>("render.camera.center", center)?;
+            self.single_precision("render.camera.center", center.as_slice(), false)?;
+            let center = f32s(center);
+            let height = raw
+                .height
+                .ok_or_else(|| self.err("render.camera.height", "is required for a 2D camera"))?;
+            let height = self.positive("render.camera.height", height)?;
+            self.single_precision("render.camera.height", &[height], true)?;
+            Ok(Camera::Orthographic {
+                center: [center[0], center[1]],
+                height: height as f32,
+            })
+        } else {
+            for (key, present) in [
+                ("center", raw.center.is_some()),
+                ("height", raw.height.is_some()),
+            ] {
+                if present {
+                    return Err(self.err(
+                        &format!("render.camera.{key}"),
+                        "is a 2D camera key; a 3D camera takes `eye`, `target` and `fov`",
+                    ));
+                }
+            }
+            let eye = raw
+                .eye
+                .as_ref()
+                .ok_or_else(|| self.err("render.camera.eye", "is required for a 3D camera"))?;
+            let eye = self.vector::<D>("render.camera.eye", eye)?;
+            self.single_precision("render.camera.eye", eye.as_slice(), false)?;
+            let eye = f32s(eye);
+            let target = raw
+                .target
+                .as_ref()
+                .ok_or_else(|| self.err("render.camera.target", "is required for a 3D camera"))?;
+            let target = self.vector::<D>("render.camera.target", target)?;
+            self.single_precision("render.camera.target", target.as_slice(), false)?;
+            let target = f32s(target);
+            if eye == target {
+                return Err(self.err("render.camera.target", "must differ from `eye`"));
+            }
+            let distance = (0..3)
+                .map(|k| f64::from(eye[k]) - f64::from(target[k]))
+                .map(|d| d * d)
+                .sum::<f64>()
+                .sqrt();
+            if !((distance as f32).is_finite()) {
+                return Err(self.err(
+                    "render.camera.target",
+                    format!(
+                        "is {} from `eye`, out of the renderer's range: images are drawn in \
+                         32-bit floats, which hold magnitudes up to 3.4e38",
+                        num(distance)
+                    ),
+                ));
+            }
+            let fov = raw.fov.unwrap_or(DEFAULT_FOV);
+            if !(fov > 0.0 && fov < 180.0) {
+                return Err(self.err(
+                    "render.camera.fov",
+                    format!("must lie in (0, 180) degrees, got {}", num(fov)),
+                ));
+            }
+            Ok(Camera::Perspective {
+                eye: [eye[0], eye[1], eye[2]],
+                target: [target[0], target[1], target[2]],
+                fov_degrees: fov as f32,
+            })
+        }
+    }
+}
