@@ -41,6 +41,16 @@ pub enum MeshError {
         /// Number of vertices.
         vertex_count: usize,
     },
+    /// A simplex lists the wrong number of vertices for the dimension.
+    #[error("element {element} lists {count} vertices, but a simplex here has {expected}")]
+    WrongVertexCount {
+        /// Element index.
+        element: usize,
+        /// Vertices it lists.
+        count: usize,
+        /// `D + 1`.
+        expected: usize,
+    },
     /// A generator was given a non-positive size or zero cells.
     #[error("invalid box: {0}")]
     InvalidBox(String),
@@ -82,12 +92,13 @@ impl<const D: usize> Mesh<D> {
         let mut flat = Vec::with_capacity(simplices.len() * Self::NODES);
         let mut rest_elements = Vec::with_capacity(simplices.len());
         for (element, simplex) in simplices.iter().enumerate() {
-            assert_eq!(
-                simplex.len(),
-                Self::NODES,
-                "a simplex in {D}D has {} vertices",
-                Self::NODES
-            );
+            if simplex.len() != Self::NODES {
+                return Err(MeshError::WrongVertexCount {
+                    element,
+                    count: simplex.len(),
+                    expected: Self::NODES,
+                });
+            }
             for &vertex in simplex {
                 if vertex >= rest_positions.len() {
                     return Err(MeshError::VertexOutOfRange {

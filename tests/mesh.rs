@@ -121,3 +121,28 @@ fn degenerate_and_inverted_rest_elements_are_rejected_by_name() {
         Mesh::<2>::axis_aligned_box(Vector2::zeros(), Vector2::new(-1.0, 1.0), [2, 3]).is_err()
     );
 }
+
+/// Regression: `Mesh::new` panicked on a simplex with the wrong number of
+/// vertices although it returns a `Result`.
+#[test]
+fn a_simplex_with_the_wrong_vertex_count_is_an_error_not_a_panic() {
+    let x = vec![
+        Vector2::new(0.0, 0.0),
+        Vector2::new(1.0, 0.0),
+        Vector2::new(0.0, 1.0),
+        Vector2::new(1.0, 1.0),
+    ];
+    let error = Mesh::new(x, vec![vec![0, 1, 2], vec![1, 3, 2, 0]]).unwrap_err();
+    assert_eq!(
+        error,
+        MeshError::WrongVertexCount {
+            element: 1,
+            count: 4,
+            expected: 3
+        }
+    );
+    assert_eq!(
+        error.to_string(),
+        "element 1 lists 4 vertices, but a simplex here has 3"
+    );
+}

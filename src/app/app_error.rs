@@ -102,3 +102,28 @@ impl AppError {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A failure of the solver's setup (the symbolic factorisation) is a
+    /// failure while working (exit 1), not bad input (exit 2).
+    #[test]
+    fn a_solver_setup_failure_exits_1_and_bad_settings_exit_2() {
+        let setup = |source| AppError::Setup {
+            scene: "s".into(),
+            source,
+        };
+        let failure = setup(SimError::SetupFailure {
+            reason: "sparse Cholesky factorisation failed: analysis".into(),
+        });
+        assert_eq!(failure.exit_code(), 1);
+        assert!(!failure.to_string().contains("step 0"));
+        let bad = setup(SimError::InvalidSetting {
+            key: "density",
+            reason: "must be positive".into(),
+        });
+        assert_eq!(bad.exit_code(), 2);
+    }
+}

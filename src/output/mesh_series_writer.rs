@@ -111,12 +111,10 @@ fn vtu<const D: usize>(
                 "        <DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">"
             );
             for v in values.iter() {
-                // VTK's ASCII reader does not take `inf`/`NaN` spellings from Rust.
-                let v = if v.is_finite() {
-                    *v
-                } else {
-                    f64::MAX.copysign(*v)
-                };
+                // Non-finite values are written as they are (`NaN`, `inf`,
+                // `-inf`, which VTK's ASCII parser reads since VTK 9.1): an
+                // element without a defined value must not stretch a colour
+                // range to 1.8e308.
                 let _ = writeln!(s, "          {v}");
             }
             s.push_str("        </DataArray>\n");
@@ -211,5 +209,21 @@ mod tests {
             "timestep=\"{}\" group=\"\" part=\"0\" file=\"frame_0001.vtu\"",
             1.0 / 30.0
         )));
+    }
+
+    /// Regression: non-finite element values were written as `f64::MAX`, so
+    /// one bad element stretched ParaView's colour range to 1.8e308.
+    #[test]
+    fn non_finite_element_values_are_written_as_nan_and_inf() {
+        let mesh =
+            Mesh::<2>::axis_aligned_box(Vector2::new(0.0, 0.0), Vector2::new(2.0, 1.0), [2, 1])
+                .unwrap();
+        let values = [0.5, f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
+        let xml = vtu(&mesh, mesh.rest_positions(), &[("von_mises", &values)]);
+        let written = data_array(&xml, "von_mises");
+        assert_eq!(written[0], 0.5);
+        assert!(written[1].is_nan());
+        assert_eq!(&written[2..], &[f64::INFINITY, f64::NEG_INFINITY]);
+        assert!(!xml.contains(&f64::MAX.to_string()));
     }
 }
