@@ -50,6 +50,7 @@ impl<const D: usize> Simulation<D> {
             SolverMethod::GradientDescent { step } => gradient_descent(
                 &objective,
                 self.hessian.free_index(),
+                &self.masses,
                 &mut self.positions,
                 dt,
                 step,

@@ -19,7 +19,9 @@ pub enum SolverMethod {
 pub struct SolverSettings {
     /// The minimiser (default: Newton).
     pub method: SolverMethod,
-    /// Convergence tolerance on `|dx|_inf / dt`, in length/s (default: 1e-4).
+    /// Convergence tolerance, in length/s (default: 1e-4): Newton stops when
+    /// `|dx|_inf / dt` falls below it, gradient descent when
+    /// `|M^-1 grad E|_inf / dt` does (see `gradient_descent.rs`).
     pub tolerance: f64,
     /// Iteration cap per step (default: 50).
     pub max_iterations: usize,
