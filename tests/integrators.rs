@@ -253,7 +253,7 @@ fn free_fall_follows_the_parabola<const D: usize>() {
     let g = unit::<D>(1) * -9.81;
     let v0 = unit::<D>(0) * 0.7 + unit::<D>(1) * 2.0;
     let dt = 0.01;
-    let steps = 50;
+    let steps = 50usize;
     for kind in IntegratorKind::ALL {
         let mesh = support::unit_box::<D>();
         let rest = mesh.rest_positions().to_vec();
