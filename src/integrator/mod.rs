@@ -19,8 +19,9 @@
 //! | [`Newmark`] (`beta = 1/4`, `gamma = 1/2`) | `x_n + dt v_n + dt^2/4 a_n` | `dt^2/4` | `v_n + dt/2 (a_n + a_{n+1})`, `a_{n+1} = 4 (x_{n+1} - x~) / dt^2` |
 //!
 //! Backward Euler is first order and dissipative; BDF2 is second order and
-//! damps only what `dt` does not resolve; Newmark is second order and does
-//! not damp (it conserves the energy of a linear problem). A scheme that
+//! damps high frequencies as strongly but resolved motion far less (energy
+//! lost per period `O(dt^3)` against `O(dt)`); Newmark is second order and
+//! does not damp (it conserves the energy of a linear problem). A scheme that
 //! carries the acceleration (Newmark) gets `a_0 = -M^{-1} grad U(x_0)` once
 //! at setup through [`TimeIntegrator::set_initial_acceleration`].
 //!
@@ -69,7 +70,7 @@ pub enum IntegratorKind {
     /// `backward-euler`: first order, dissipative (default).
     #[default]
     BackwardEuler,
-    /// `bdf2`: second order, damps only unresolved frequencies; first step by backward Euler.
+    /// `bdf2`: second order, damps resolved motion far less than backward Euler; first step by backward Euler.
     Bdf2,
     /// `newmark`: implicit Newmark (trapezoidal rule), second order, no numerical damping.
     Newmark,
