@@ -3,6 +3,8 @@
 //! Elasticity is always a term; gravity and the ground barrier exist only
 //! when the scene asks for them (an absent effect has no term, so it costs
 //! nothing). Pinned vertices are eliminated from the unknowns here, once.
+//! The integrator gets the initial acceleration `a_0 = -M^{-1} grad U(x_0)`
+//! here (Newmark needs it; the other schemes ignore it).
 
 use super::{Effects, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
@@ -18,6 +20,31 @@ fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
         key,
         reason: reason.into(),
     }
+}
+
+/// `a_0 = -M^{-1} grad U(x_0)` on free vertices, zero on pinned ones: the
+/// acceleration of the initial state under every potential term.
+fn initial_acceleration<const D: usize>(
+    elasticity: &Elasticity<D>,
+    effect_terms: &[Box<dyn EnergyTerm<D>>],
+    masses: &[f64],
+    free_index: &[Option<usize>],
+    positions: &[Vector<D>],
+) -> Vec<Vector<D>> {
+    let mut gradient = vec![Vector::<D>::zeros(); positions.len()];
+    elasticity.add_gradient(positions, 1.0, &mut gradient);
+    for term in effect_terms {
+        term.add_gradient(positions, 1.0, &mut gradient);
+    }
+    gradient
+        .iter()
+        .zip(masses)
+        .zip(free_index)
+        .map(|((g, m), free)| match free {
+            Some(_) if *m > 0.0 => -g / *m,
+            _ => Vector::<D>::zeros(),
+        })
+        .collect()
 }
 
 impl<const D: usize> Simulation<D> {
@@ -151,11 +178,20 @@ impl<const D: usize> Simulation<D> {
             SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SetupFailure {
                 reason: e.to_string(),
             })?;
+        let elasticity = Elasticity::new(mesh.clone(), material);
+        let mut integrator = settings.integrator.build(positions.len());
+        integrator.set_initial_acceleration(&initial_acceleration(
+            &elasticity,
+            &effect_terms,
+            &masses,
+            hessian.free_index(),
+            &positions,
+        ));
         Ok(Self {
             inertia: Inertia::new(masses.clone()),
-            elasticity: Elasticity::new(mesh.clone(), material),
+            elasticity,
             effect_terms,
-            integrator: settings.integrator.build(positions.len()),
+            integrator,
             barrier_stiffness,
             ground_height: effects.ground.map(|g| g.height),
             mesh,
