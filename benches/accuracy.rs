@@ -173,10 +173,22 @@ fn main() {
         max_iterations,
     };
     for (label, solver) in [
-        ("gradient descent x100".to_owned(), descent(f64::MIN_POSITIVE, 100)),
-        ("gradient descent x1000".to_owned(), descent(f64::MIN_POSITIVE, 1000)),
-        ("gradient descent tol 1e-2".to_owned(), descent(1e-2, 1_000_000)),
-        ("gradient descent tol 1e-4".to_owned(), descent(1e-4, 1_000_000)),
+        (
+            "gradient descent x100".to_owned(),
+            descent(f64::MIN_POSITIVE, 100),
+        ),
+        (
+            "gradient descent x1000".to_owned(),
+            descent(f64::MIN_POSITIVE, 1000),
+        ),
+        (
+            "gradient descent tol 1e-2".to_owned(),
+            descent(1e-2, 1_000_000),
+        ),
+        (
+            "gradient descent tol 1e-4".to_owned(),
+            descent(1e-4, 1_000_000),
+        ),
     ] {
         let (x, _, ms, its) = simulate(
             &Run {

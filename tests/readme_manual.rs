@@ -27,13 +27,13 @@ fn documented_keys() -> BTreeMap<String, BTreeSet<String>> {
             };
         } else if line.starts_with("## ") {
             current = None;
-        } else if let (Some(section), Some(row)) = (&current, line.strip_prefix("| `")) {
-            if let Some((key, _)) = row.split_once('`') {
-                sections
-                    .entry(section.clone())
-                    .or_default()
-                    .insert(key.to_owned());
-            }
+        } else if let (Some(section), Some(row)) = (&current, line.strip_prefix("| `"))
+            && let Some((key, _)) = row.split_once('`')
+        {
+            sections
+                .entry(section.clone())
+                .or_default()
+                .insert(key.to_owned());
         }
     }
     sections
@@ -71,10 +71,12 @@ fn every_flag_of_every_command_is_in_the_readme() {
                 continue;
             }
             for word in line.split([' ', ',', '=', '<', '[']) {
-                if let Some(name) = word.strip_prefix("--") {
-                    if !name.is_empty() && name != "help" && name != "version" {
-                        flags.insert(format!("{command} --{name}"));
-                    }
+                if let Some(name) = word.strip_prefix("--")
+                    && !name.is_empty()
+                    && name != "help"
+                    && name != "version"
+                {
+                    flags.insert(format!("{command} --{name}"));
                 }
             }
         }

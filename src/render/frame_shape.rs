@@ -91,22 +91,21 @@ impl FrameShape {
             range: Some([lo, hi]),
             ..
         } = settings.colouring
+            && !(lo < hi && lo.is_finite() && hi.is_finite())
         {
-            if !(lo < hi && lo.is_finite() && hi.is_finite()) {
-                return invalid(format!(
-                    "colour range [{lo}, {hi}] must be finite and increasing"
-                ));
-            }
+            return invalid(format!(
+                "colour range [{lo}, {hi}] must be finite and increasing"
+            ));
         }
-        if let Colouring::Flat(c) = settings.colouring {
-            if !c.iter().all(|v| v.is_finite()) {
-                return invalid(format!("flat colour {c:?} is not finite"));
-            }
+        if let Colouring::Flat(c) = settings.colouring
+            && !c.iter().all(|v| v.is_finite())
+        {
+            return invalid(format!("flat colour {c:?} is not finite"));
         }
-        if let Some(ground) = settings.ground_height {
-            if !ground.is_finite() {
-                return invalid(format!("ground height {ground} is not finite"));
-            }
+        if let Some(ground) = settings.ground_height
+            && !ground.is_finite()
+        {
+            return invalid(format!("ground height {ground} is not finite"));
         }
         Ok(Self {
             vertex_count,
@@ -123,13 +122,13 @@ impl FrameShape {
                 self.vertex_count
             )));
         }
-        if let Some(element_count) = self.element_values {
-            if frame.element_values.len() != element_count {
-                return Err(RenderError::InvalidInput(format!(
-                    "a frame has {} element values, the mesh has {element_count} elements",
-                    frame.element_values.len(),
-                )));
-            }
+        if let Some(element_count) = self.element_values
+            && frame.element_values.len() != element_count
+        {
+            return Err(RenderError::InvalidInput(format!(
+                "a frame has {} element values, the mesh has {element_count} elements",
+                frame.element_values.len(),
+            )));
         }
         Ok(())
     }

@@ -255,7 +255,10 @@ mod tests {
         for name in names("material.model") {
             assert!(accepts::<MaterialModel>(&name), "{name}");
         }
-        assert_eq!(names("time.integrator"), ["backward-euler", "bdf2", "newmark"]);
+        assert_eq!(
+            names("time.integrator"),
+            ["backward-euler", "bdf2", "newmark"]
+        );
         for name in names("time.integrator") {
             assert!(accepts::<IntegratorKind>(&name), "{name}");
         }
