@@ -67,8 +67,8 @@ fn minimal_scene_gets_documented_defaults() {
         panic!("2D")
     };
     assert_eq!(c.name, "test");
-    assert_eq!(c.mesh.cells, [5, 5]);
-    assert_eq!(c.mesh.offset.as_slice(), &[0.0, 10.0]);
+    assert_eq!(c.mesh.as_box().unwrap().cells, [5, 5]);
+    assert_eq!(c.mesh.as_box().unwrap().offset.as_slice(), &[0.0, 10.0]);
     assert_eq!(c.initial_velocity.as_slice(), &[0.0, 0.0]);
     assert_eq!(c.material.density, 1.0);
     let Material::StVenantKirchhoff(m) = c.material.material else {
@@ -112,7 +112,10 @@ fn the_settings_types_default_to_the_scene_file_defaults() {
     let Scene::Two(m) = load(&edit(MINIMAL, "offset = [0.0, 10.0]\n", "")).unwrap() else {
         panic!("2D")
     };
-    assert_eq!(m.mesh.offset, BoxMesh::<2>::default().offset);
+    assert_eq!(
+        m.mesh.as_box().unwrap().offset,
+        BoxMesh::<2>::default().offset
+    );
     // The render settings are the renderer's type, with the renderer's defaults
     // except for what the scene names: the legend title of its field.
     assert_eq!(
@@ -152,8 +155,8 @@ fn every_builtin_scene_is_valid_and_matches_its_name() {
     let drop = Scene::load(&SceneSource::resolve(None).unwrap(), &[]).unwrap();
     assert_eq!(drop.name(), "report-drop-2d");
     let Scene::Two(c) = drop else { panic!("2D") };
-    assert_eq!(c.mesh.cells, [5, 5]);
-    assert_eq!(c.mesh.offset[1], 10.0);
+    assert_eq!(c.mesh.as_box().unwrap().cells, [5, 5]);
+    assert_eq!(c.mesh.as_box().unwrap().offset[1], 10.0);
     assert_eq!(c.effects.gravity.unwrap().as_slice(), &[0.0, -1.0]);
     let ground = c.effects.ground.unwrap();
     assert_eq!((ground.height, ground.activation_distance), (0.0, 0.1));
@@ -180,7 +183,7 @@ target = [0, 0, 0]
     let Scene::Three(c) = load(text).unwrap() else {
         panic!("3D")
     };
-    assert_eq!(c.mesh.size.as_slice(), &[1.0, 2.0, 3.0]);
+    assert_eq!(c.mesh.as_box().unwrap().size.as_slice(), &[1.0, 2.0, 3.0]);
     let Material::NeoHookean(m) = c.material.material else {
         panic!("neo-hookean")
     };

@@ -46,6 +46,9 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
         scene.vertex_count(),
         scene.element_count()
     );
+    if let Some(report) = scene.import_report() {
+        let _ = writeln!(s, "  mesh file       {report}");
+    }
     let constants: Vec<String> = material
         .material
         .parameters()

@@ -84,8 +84,12 @@ pub(crate) fn check_simulation_memory<const D: usize>(
     };
     let needed = simulation_bytes(config);
     if needed > memory {
+        let key = match config.mesh {
+            crate::scene::MeshConfig::Box(_) => "mesh.cells",
+            crate::scene::MeshConfig::File(_) => "mesh.path",
+        };
         return Err(input.error(
-            "mesh.cells",
+            key,
             format!(
                 "the simulation of {} elements needs at least {}, more than this machine's {}",
                 config.mesh.element_count(),

@@ -43,7 +43,7 @@ pub(crate) fn choices(key: &str) -> Option<String> {
         }
     };
     Some(match key {
-        "mesh.generator" => listed(&["box"]),
+        "mesh.generator" => listed(&["box", "file"]),
         "material.model" => listed(&MaterialModel::ALL.map(MaterialModel::name)),
         "time.integrator" => listed(&IntegratorKind::ALL.map(IntegratorKind::name)),
         "solver.method" => listed(&["newton", "gradient-descent"]),
@@ -59,6 +59,8 @@ pub(crate) enum Generator {
     /// An axis-aligned box split into simplices.
     #[default]
     Box,
+    /// A mesh read from a file (`mesh.path`).
+    File,
 }
 
 /// `[mesh]`.
@@ -67,12 +69,40 @@ pub(crate) enum Generator {
 pub(crate) struct RawMesh {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generator: Option<Generator>,
-    pub size: Vec<f64>,
-    pub cells: Vec<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cells: Option<Vec<i64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub offset: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<RawRotate>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub translate: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orient: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merge_tolerance: Option<f64>,
+}
+
+/// `mesh.rotate`: one angle in 2D (about the axis out of the plane), three in
+/// 3D (about x, y, z), in degrees.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a number of degrees (2D) or a list of three (3D)"
+)]
+pub(crate) enum RawRotate {
+    /// A 2D rotation.
+    Angle(f64),
+    /// A 3D rotation about x, then y, then z.
+    Angles(Vec<f64>),
 }
 
 /// `[material]`.

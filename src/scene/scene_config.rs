@@ -15,9 +15,12 @@ use crate::material::Material;
 use crate::material::{MaterialModel, YoungPoisson};
 use crate::math::Vector;
 use crate::mesh::{Mesh, MeshError};
+use crate::mesh_io::{ImportOptions, ImportReport};
 use crate::render::RenderSettings;
 use crate::sim::{Effects, Ground, SimulationSettings};
 use crate::solver::SolverSettings;
+use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Default output frames per second.
 pub const DEFAULT_FPS: f64 = 30.0;
@@ -112,6 +115,87 @@ impl<const D: usize> BoxMesh<D> {
         let (min, max) = (self.offset[axis], self.offset[axis] + self.size[axis]);
         let cells = self.cells[axis];
         (0..=cells).map(move |i| min + (max - min) * i as f64 / cells as f64)
+    }
+}
+
+/// A mesh read from a file (`generator = "file"`): read, placed and cleaned
+/// when the scene is validated, so that counts and errors are known before
+/// any work starts.
+#[derive(Debug, Clone)]
+pub struct FileMesh<const D: usize> {
+    /// The file, resolved against the scene file's folder (a built-in
+    /// scene's against `scenes/`).
+    pub path: PathBuf,
+    /// Placement and cleaning (`mesh.scale`, `mesh.rotate`, `mesh.translate`,
+    /// `mesh.orient`, `mesh.merge_tolerance`).
+    pub options: ImportOptions<D>,
+    /// The cleaned mesh.
+    pub mesh: Arc<Mesh<D>>,
+    /// What the import ignored, re-oriented, dropped and merged.
+    pub report: ImportReport,
+}
+
+impl<const D: usize> PartialEq for FileMesh<D> {
+    /// Same file, options and report (the mesh follows from them).
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path && self.options == other.options && self.report == other.report
+    }
+}
+
+/// A body's rest mesh: generated or read from a file (`[mesh]`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshConfig<const D: usize> {
+    /// `generator = "box"` (the default).
+    Box(BoxMesh<D>),
+    /// `generator = "file"`.
+    File(FileMesh<D>),
+}
+
+impl<const D: usize> Default for MeshConfig<D> {
+    fn default() -> Self {
+        MeshConfig::Box(BoxMesh::default())
+    }
+}
+
+impl<const D: usize> MeshConfig<D> {
+    /// Builds (or hands out a copy of the imported) mesh.
+    pub fn build(&self) -> Result<Mesh<D>, MeshError> {
+        match self {
+            MeshConfig::Box(b) => b.build(),
+            MeshConfig::File(f) => Ok(Mesh::clone(&f.mesh)),
+        }
+    }
+
+    /// Number of vertices the mesh has.
+    pub fn vertex_count(&self) -> usize {
+        match self {
+            MeshConfig::Box(b) => b.vertex_count(),
+            MeshConfig::File(f) => f.mesh.vertex_count(),
+        }
+    }
+
+    /// Number of simplices the mesh has.
+    pub fn element_count(&self) -> usize {
+        match self {
+            MeshConfig::Box(b) => b.element_count(),
+            MeshConfig::File(f) => f.mesh.element_count(),
+        }
+    }
+
+    /// The box generator's parameters, for a box.
+    pub fn as_box(&self) -> Option<&BoxMesh<D>> {
+        match self {
+            MeshConfig::Box(b) => Some(b),
+            MeshConfig::File(_) => None,
+        }
+    }
+
+    /// The import report, for a mesh file.
+    pub fn import_report(&self) -> Option<&ImportReport> {
+        match self {
+            MeshConfig::Box(_) => None,
+            MeshConfig::File(f) => Some(&f.report),
+        }
     }
 }
 
@@ -230,8 +314,8 @@ pub struct SceneConfig<const D: usize> {
     /// The scene's name, which names the default output folder `out/NAME`
     /// (default: the file stem, or the built-in scene's name).
     pub name: String,
-    /// The body's rest mesh.
-    pub mesh: BoxMesh<D>,
+    /// The body's rest mesh (default: a unit box of one cell).
+    pub mesh: MeshConfig<D>,
     /// Initial velocity of every vertex, in length/s (default: zero).
     pub initial_velocity: Vector<D>,
     /// Material.
@@ -255,7 +339,7 @@ impl<const D: usize> Default for SceneConfig<D> {
     fn default() -> Self {
         Self {
             name: "scene".to_owned(),
-            mesh: BoxMesh::default(),
+            mesh: MeshConfig::default(),
             initial_velocity: Vector::<D>::zeros(),
             material: MaterialConfig::default(),
             time: TimeConfig::default(),
@@ -378,6 +462,11 @@ impl Scene {
     /// Number of mesh elements.
     pub fn element_count(&self) -> usize {
         common!(self, c => c.mesh.element_count())
+    }
+
+    /// What importing the mesh file found, for a file mesh.
+    pub fn import_report(&self) -> Option<&ImportReport> {
+        common!(self, c => c.mesh.import_report())
     }
 
     /// Ground height, when there is a ground.

@@ -36,6 +36,11 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
         description: "soft 3D bar pinned at its top end, hanging down, bouncing and swinging",
         toml: include_str!("../../scenes/hanging-bar-3d.toml"),
     },
+    BuiltinScene {
+        name: "bunny-drop",
+        description: "the shipped bunny-like tetrahedral mesh (scenes/meshes/bunny.msh) dropped onto the ground",
+        toml: include_str!("../../scenes/bunny-drop.toml"),
+    },
 ];
 
 /// The scene used when none is named.

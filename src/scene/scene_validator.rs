@@ -9,24 +9,26 @@
 use super::SceneError;
 use super::raw_scene::{
     FieldName, Generator, Method, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
-    RawRender, RawScene, RawSolver, RawTime,
+    RawRender, RawRotate, RawScene, RawSolver, RawTime,
 };
 use super::scene_config::{
     BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
     DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES, MAX_NAME_BYTES,
-    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, Scene, SceneConfig, TimeConfig,
-    image_bytes,
+    DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
+    MAX_NAME_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene,
+    SceneConfig, TimeConfig, image_bytes,
 };
 use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
 use crate::energy::ElementField;
 use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector};
+use crate::mesh_io::{ImportOptions, load_mesh};
 use crate::render::{Camera, Colouring, RenderSettings};
 use crate::sim::{Effects, Ground, PinRegion};
 use crate::solver::{SolverMethod, SolverSettings};
+use std::path::{Path, PathBuf};
 
 /// Turns a [`RawScene`] into a [`Scene`] plus the resolved raw form,
 /// reporting each problem at its key.
@@ -184,26 +186,181 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         Ok(())
     }
 
-    fn mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
-        let Generator::Box = raw.generator.unwrap_or_default();
-        let size = self.vector::<D>("mesh.size", &raw.size)?;
+    fn mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(MeshConfig<D>, Vector<D>, RawMesh)> {
+        let generator = raw.generator.unwrap_or_default();
+        let (used, other, hint) = match generator {
+            Generator::Box => (
+                "box",
+                [
+                    ("path", raw.path.is_some()),
+                    ("scale", raw.scale.is_some()),
+                    ("rotate", raw.rotate.is_some()),
+                    ("translate", raw.translate.is_some()),
+                    ("orient", raw.orient.is_some()),
+                    ("merge_tolerance", raw.merge_tolerance.is_some()),
+                ]
+                .to_vec(),
+                "file",
+            ),
+            Generator::File => (
+                "file",
+                [
+                    ("size", raw.size.is_some()),
+                    ("cells", raw.cells.is_some()),
+                    ("offset", raw.offset.is_some()),
+                ]
+                .to_vec(),
+                "box",
+            ),
+        };
+        if let Some((key, _)) = other.iter().find(|(_, present)| *present) {
+            return Err(self.err(
+                &format!("mesh.{key}"),
+                format!(
+                    "is only used with generator = \"{hint}\" (this mesh is generator = \"{used}\")"
+                ),
+            ));
+        }
+        match generator {
+            Generator::Box => self
+                .box_mesh::<D>(raw)
+                .map(|(b, v, r)| (MeshConfig::Box(b), v, r)),
+            Generator::File => self
+                .file_mesh::<D>(raw)
+                .map(|(f, v, r)| (MeshConfig::File(f), v, r)),
+        }
+    }
+
+    /// Where a relative mesh path points: beside the scene file, or under
+    /// `scenes/` of this source tree for a built-in scene.
+    fn mesh_folder(&self) -> PathBuf {
+        match &self.doc.source().path {
+            Some(file) => file.parent().map(Path::to_owned).unwrap_or_default(),
+            None => Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes"),
+        }
+    }
+
+    fn file_mesh<const D: usize>(
+        &self,
+        raw: &RawMesh,
+    ) -> VResult<(FileMesh<D>, Vector<D>, RawMesh)> {
+        let given = raw
+            .path
+            .as_deref()
+            .ok_or_else(|| self.err("mesh.path", "is required with generator = \"file\""))?;
+        if given.trim().is_empty() {
+            return Err(self.err("mesh.path", "must not be empty"));
+        }
+        let path = self.mesh_folder().join(given);
+        let path = std::path::absolute(&path).unwrap_or(path);
+        let scale = self.positive("mesh.scale", raw.scale.unwrap_or(1.0))?;
+        let rotate = match (&raw.rotate, D) {
+            (None, _) => [0.0; 3],
+            (Some(RawRotate::Angle(a)), 2) if a.is_finite() => [0.0, 0.0, *a],
+            (Some(RawRotate::Angles(v)), 3) if v.len() == 3 && v.iter().all(|a| a.is_finite()) => {
+                [v[0], v[1], v[2]]
+            }
+            (Some(_), 2) => {
+                return Err(self.err(
+                    "mesh.rotate",
+                    "is one finite angle in degrees in 2D (about the axis out of the plane)",
+                ));
+            }
+            (Some(_), _) => {
+                return Err(self.err(
+                    "mesh.rotate",
+                    "is three finite angles in degrees in 3D (about x, then y, then z)",
+                ));
+            }
+        };
+        let translate = match &raw.translate {
+            Some(v) => self.vector::<D>("mesh.translate", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        let merge_tolerance = raw.merge_tolerance.unwrap_or(0.0);
+        if !(merge_tolerance.is_finite() && merge_tolerance >= 0.0) {
+            return Err(self.err(
+                "mesh.merge_tolerance",
+                format!("must be a finite number >= 0, got {}", num(merge_tolerance)),
+            ));
+        }
+        let orient = raw.orient.unwrap_or(true);
+        let velocity = match &raw.velocity {
+            Some(v) => self.vector::<D>("mesh.velocity", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        let options = ImportOptions {
+            orient,
+            merge_tolerance,
+            scale,
+            rotate,
+            translate,
+        };
+        let (mesh, report) = load_mesh::<D>(&path, &options)
+            .map_err(|e| self.err("mesh.path", format!("cannot be imported: {e}")))?;
+        let coordinates: Vec<f64> = mesh
+            .rest_positions()
+            .iter()
+            .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
+            .collect();
+        self.single_precision("mesh.translate", &coordinates, false)?;
+        let resolved = RawMesh {
+            generator: Some(Generator::File),
+            size: None,
+            cells: None,
+            offset: None,
+            velocity: Some(velocity.iter().copied().collect()),
+            path: Some(path.display().to_string()),
+            scale: Some(scale),
+            rotate: Some(if D == 2 {
+                RawRotate::Angle(rotate[2])
+            } else {
+                RawRotate::Angles(rotate.to_vec())
+            }),
+            translate: Some(translate.iter().copied().collect()),
+            orient: Some(orient),
+            merge_tolerance: Some(merge_tolerance),
+        };
+        Ok((
+            FileMesh {
+                path,
+                options,
+                mesh: std::sync::Arc::new(mesh),
+                report,
+            },
+            velocity,
+            resolved,
+        ))
+    }
+
+    fn box_mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
+        let required = |key: &str| {
+            self.err(
+                key,
+                "is required with generator = \"box\" (give `size` and `cells`, or use \
+                 generator = \"file\" with `path`)",
+            )
+        };
+        let raw_size = raw.size.as_ref().ok_or_else(|| required("mesh.size"))?;
+        let raw_cells = raw.cells.as_ref().ok_or_else(|| required("mesh.cells"))?;
+        let size = self.vector::<D>("mesh.size", raw_size)?;
         if let Some(bad) = size.iter().find(|s| **s <= 0.0) {
             return Err(self.err(
                 "mesh.size",
                 format!("every extent must be > 0, got {}", num(*bad)),
             ));
         }
-        if raw.cells.len() != D {
+        if raw_cells.len() != D {
             return Err(self.err(
                 "mesh.cells",
                 format!(
                     "needs {D} components (dimension = {D}), got {}",
-                    raw.cells.len()
+                    raw_cells.len()
                 ),
             ));
         }
         let mut cells = [0usize; D];
-        for (c, &n) in cells.iter_mut().zip(&raw.cells) {
+        for (c, &n) in cells.iter_mut().zip(raw_cells) {
             *c = self.count("mesh.cells", n, MAX_CELLS)?;
         }
         let total = cells.iter().try_fold(1usize, |acc, &c| acc.checked_mul(c));
@@ -212,7 +369,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 "mesh.cells",
                 format!(
                     "{:?} makes {} cells, more than the {MAX_CELLS} allowed",
-                    raw.cells,
+                    raw_cells,
                     cells.iter().map(|&c| c as f64).product::<f64>()
                 ),
             ));
@@ -232,10 +389,11 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         };
         let resolved = RawMesh {
             generator: Some(Generator::Box),
-            size: size.iter().copied().collect(),
-            cells: raw.cells.clone(),
+            size: Some(size.iter().copied().collect()),
+            cells: Some(raw_cells.clone()),
             offset: Some(offset.iter().copied().collect()),
             velocity: Some(velocity.iter().copied().collect()),
+            ..raw.clone()
         };
         Ok((
             BoxMesh {
@@ -305,12 +463,25 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     }
 
     /// Masses are density times element volumes: they must be normal doubles.
-    fn mass<const D: usize>(&self, mesh: &BoxMesh<D>, density: f64) -> VResult<()> {
-        let element: f64 = (0..D)
-            .map(|a| mesh.size[a] / mesh.cells[a] as f64)
-            .product::<f64>()
-            / (1..=D + 1).product::<usize>() as f64;
-        let total = density * mesh.size.iter().product::<f64>();
+    fn mass<const D: usize>(&self, mesh: &MeshConfig<D>, density: f64) -> VResult<()> {
+        let (element, volume) = match mesh {
+            MeshConfig::Box(mesh) => (
+                (0..D)
+                    .map(|a| mesh.size[a] / mesh.cells[a] as f64)
+                    .product::<f64>()
+                    / (1..=D + 1).product::<usize>() as f64,
+                mesh.size.iter().product::<f64>(),
+            ),
+            MeshConfig::File(f) => (
+                f.mesh
+                    .rest_elements()
+                    .iter()
+                    .map(|e| e.volume)
+                    .fold(f64::INFINITY, f64::min),
+                f.mesh.rest_volume(),
+            ),
+        };
+        let total = density * volume;
         if !(density * element >= f64::MIN_POSITIVE && total.is_finite()) {
             return Err(self.err(
                 "material.density",
@@ -586,7 +757,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     fn effects<const D: usize>(
         &self,
         raw: &RawEffects,
-        mesh: &BoxMesh<D>,
+        mesh: &MeshConfig<D>,
     ) -> VResult<(Effects<D>, RawEffects)> {
         let mut effects = Effects::<D>::default();
         let mut resolved = RawEffects::default();
@@ -619,13 +790,23 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 Some(k) => Some(self.positive("effects.ground.kappa", k)?),
                 None => None,
             };
-            let bottom = mesh.offset[UP_AXIS];
+            let (bottom, key) = match mesh {
+                MeshConfig::Box(b) => (b.offset[UP_AXIS], "mesh.offset"),
+                MeshConfig::File(f) => (
+                    f.mesh
+                        .rest_positions()
+                        .iter()
+                        .map(|x| x[UP_AXIS])
+                        .fold(f64::INFINITY, f64::min),
+                    "mesh.translate",
+                ),
+            };
             if bottom <= height {
                 return Err(self.err(
-                    "mesh.offset",
+                    key,
                     format!(
                         "the mesh starts at height {}, on or below the ground at {} \
-                         (effects.ground.height); raise mesh.offset[{UP_AXIS}]",
+                         (effects.ground.height); raise {key}[{UP_AXIS}]",
                         num(bottom),
                         num(height)
                     ),
@@ -658,16 +839,23 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             // A vertex is pinned when it lies in the box (inclusive) at rest; the
             // grid is a tensor product, so some vertex is caught exactly when
             // every axis has a grid coordinate inside [min, max].
-            let catches =
-                (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a]));
+            let inside = |x: &Vector<D>| (0..D).all(|a| min[a] <= x[a] && x[a] <= max[a]);
+            let (catches, holds_all) = match mesh {
+                MeshConfig::Box(mesh) => (
+                    (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a])),
+                    (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a])),
+                ),
+                MeshConfig::File(f) => (
+                    f.mesh.rest_positions().iter().any(inside),
+                    f.mesh.rest_positions().iter().all(inside),
+                ),
+            };
             if !catches {
                 return Err(self.err(
                     "effects.pinned",
                     "the region from `min` to `max` contains no mesh vertex at rest; widen it to catch the vertices to hold",
                 ));
             }
-            let holds_all =
-                (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a]));
             if holds_all {
                 return Err(self.err(
                     "effects.pinned",
