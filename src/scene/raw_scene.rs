@@ -19,8 +19,10 @@ pub(crate) struct RawScene {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     pub dimension: i64,
-    pub mesh: RawMesh,
-    pub material: RawMaterial,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<RawMesh>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<RawMaterial>,
     #[serde(default)]
     pub time: RawTime,
     #[serde(default)]
@@ -29,6 +31,19 @@ pub(crate) struct RawScene {
     pub effects: RawEffects,
     #[serde(default)]
     pub render: RawRender,
+    /// `[[bodies]]`, instead of `[mesh]` and `[material]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<Vec<RawBody>>,
+}
+
+/// One `[[bodies]]` entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(crate) struct RawBody {
+    pub mesh: RawMesh,
+    pub material: RawMaterial,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pinned: Option<RawPinned>,
 }
 
 /// The names a key of enum type accepts, for messages (`` `stvk` or `neo-hookean` ``).

@@ -17,7 +17,7 @@ use crate::math::Vector;
 use crate::mesh::{Mesh, MeshError};
 use crate::mesh_io::{ImportOptions, ImportReport};
 use crate::render::RenderSettings;
-use crate::sim::{Effects, Ground, SimulationSettings};
+use crate::sim::{Effects, Ground, PinRegion, SimulationSettings};
 use crate::solver::SolverSettings;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -182,6 +182,24 @@ impl<const D: usize> MeshConfig<D> {
         }
     }
 
+    /// Whether some vertex lies in `region` (inclusive) at rest, and whether
+    /// every vertex does. A box's grid is a tensor product, so some vertex
+    /// is caught exactly when every axis has a grid coordinate inside.
+    pub fn vertices_in(&self, region: &PinRegion<D>) -> (bool, bool) {
+        let (min, max) = (region.min, region.max);
+        match self {
+            MeshConfig::Box(mesh) => (
+                (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a])),
+                (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a])),
+            ),
+            MeshConfig::File(f) => {
+                let inside = |x: &Vector<D>| (0..D).all(|a| min[a] <= x[a] && x[a] <= max[a]);
+                let positions = f.mesh.rest_positions();
+                (positions.iter().any(inside), positions.iter().all(inside))
+            }
+        }
+    }
+
     /// The box generator's parameters, for a box.
     pub fn as_box(&self) -> Option<&BoxMesh<D>> {
         match self {
@@ -229,6 +247,37 @@ impl MaterialConfig {
     /// The model's scene-file name (`stvk` or `neo-hookean`).
     pub fn model_name(&self) -> &'static str {
         self.material.model().name()
+    }
+}
+
+/// One body: its mesh, material, initial velocity and pinned region
+/// (`[mesh]` and `[material]`, or one `[[bodies]]` entry).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyConfig<const D: usize> {
+    /// The body's rest mesh (default: a unit box of one cell).
+    pub mesh: MeshConfig<D>,
+    /// Initial velocity of every vertex, in length/s (default: zero).
+    pub initial_velocity: Vector<D>,
+    /// Material (default: [`MaterialConfig::default`]).
+    pub material: MaterialConfig,
+    /// The body's vertices inside this box at rest are pinned (`bodies.pinned`;
+    /// default: none; a single-body scene pins with `[effects.pinned]`).
+    pub pinned: Option<PinRegion<D>>,
+    /// The prefix of this body's scene keys, for messages: empty for
+    /// `[mesh]` and `[material]`, `bodies[1].` for the second `[[bodies]]`
+    /// entry (default: empty).
+    pub key_prefix: String,
+}
+
+impl<const D: usize> Default for BodyConfig<D> {
+    fn default() -> Self {
+        Self {
+            mesh: MeshConfig::default(),
+            initial_velocity: Vector::<D>::zeros(),
+            material: MaterialConfig::default(),
+            pinned: None,
+            key_prefix: String::new(),
+        }
     }
 }
 
@@ -314,12 +363,9 @@ pub struct SceneConfig<const D: usize> {
     /// The scene's name, which names the default output folder `out/NAME`
     /// (default: the file stem, or the built-in scene's name).
     pub name: String,
-    /// The body's rest mesh (default: a unit box of one cell).
-    pub mesh: MeshConfig<D>,
-    /// Initial velocity of every vertex, in length/s (default: zero).
-    pub initial_velocity: Vector<D>,
-    /// Material.
-    pub material: MaterialConfig,
+    /// The bodies, at least one (default: one [`BodyConfig::default`]).
+    /// They share gravity and the ground and do not collide with each other.
+    pub bodies: Vec<BodyConfig<D>>,
     /// Frames and time step.
     pub time: TimeConfig,
     /// Nonlinear solver (default: [`SolverSettings::default`]).
@@ -339,9 +385,7 @@ impl<const D: usize> Default for SceneConfig<D> {
     fn default() -> Self {
         Self {
             name: "scene".to_owned(),
-            mesh: MeshConfig::default(),
-            initial_velocity: Vector::<D>::zeros(),
-            material: MaterialConfig::default(),
+            bodies: vec![BodyConfig::default()],
             time: TimeConfig::default(),
             solver: SolverSettings::default(),
             effects: Effects::default(),
@@ -352,6 +396,16 @@ impl<const D: usize> Default for SceneConfig<D> {
 }
 
 impl<const D: usize> SceneConfig<D> {
+    /// Number of vertices of all bodies.
+    pub fn vertex_count(&self) -> usize {
+        self.bodies.iter().map(|b| b.mesh.vertex_count()).sum()
+    }
+
+    /// Number of elements of all bodies.
+    pub fn element_count(&self) -> usize {
+        self.bodies.iter().map(|b| b.mesh.element_count()).sum()
+    }
+
     /// Settings of the time integrator.
     pub fn simulation_settings(&self) -> SimulationSettings {
         SimulationSettings {
@@ -434,9 +488,19 @@ impl Scene {
         common!(self, c => &c.time)
     }
 
-    /// Material.
+    /// The first body's material.
     pub fn material(&self) -> &MaterialConfig {
-        common!(self, c => &c.material)
+        common!(self, c => &c.bodies[0].material)
+    }
+
+    /// Every body's material, in order.
+    pub fn materials(&self) -> Vec<&MaterialConfig> {
+        common!(self, c => c.bodies.iter().map(|b| &b.material).collect())
+    }
+
+    /// Number of bodies.
+    pub fn body_count(&self) -> usize {
+        common!(self, c => c.bodies.len())
     }
 
     /// Solver settings.
@@ -456,17 +520,17 @@ impl Scene {
 
     /// Number of mesh vertices.
     pub fn vertex_count(&self) -> usize {
-        common!(self, c => c.mesh.vertex_count())
+        common!(self, c => c.vertex_count())
     }
 
     /// Number of mesh elements.
     pub fn element_count(&self) -> usize {
-        common!(self, c => c.mesh.element_count())
+        common!(self, c => c.element_count())
     }
 
-    /// What importing the mesh file found, for a file mesh.
-    pub fn import_report(&self) -> Option<&ImportReport> {
-        common!(self, c => c.mesh.import_report())
+    /// What importing each mesh file found (bodies with a box mesh have none).
+    pub fn import_reports(&self) -> Vec<&ImportReport> {
+        common!(self, c => c.bodies.iter().filter_map(|b| b.mesh.import_report()).collect())
     }
 
     /// Ground height, when there is a ground.

@@ -8,12 +8,12 @@
 
 use super::SceneError;
 use super::raw_scene::{
-    FieldName, Generator, Method, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
-    RawRender, RawRotate, RawScene, RawSolver, RawTime,
+    FieldName, Generator, Method, RawBody, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
+    RawPinned, RawRender, RawRotate, RawScene, RawSolver, RawTime,
 };
 use super::scene_config::{
-    BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
-    DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
+    BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
+    DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
     DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
     MAX_NAME_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene,
@@ -34,6 +34,8 @@ use std::path::{Path, PathBuf};
 /// reporting each problem at its key.
 pub(crate) struct SceneValidator<'d, 'a> {
     doc: &'d SceneDocument<'a>,
+    /// Put before every key in messages: `bodies[1].` while validating a body.
+    prefix: String,
 }
 
 type VResult<T> = std::result::Result<T, SceneError>;
@@ -41,7 +43,18 @@ type VResult<T> = std::result::Result<T, SceneError>;
 impl<'d, 'a> SceneValidator<'d, 'a> {
     /// A validator whose messages point into `doc`.
     pub fn new(doc: &'d SceneDocument<'a>) -> Self {
-        Self { doc }
+        Self {
+            doc,
+            prefix: String::new(),
+        }
+    }
+
+    /// A validator for the keys under `prefix` (e.g. `bodies[1].`).
+    fn under(&self, prefix: String) -> Self {
+        Self {
+            doc: self.doc,
+            prefix,
+        }
     }
 
     /// The typed scene and its resolved raw form.
@@ -54,24 +67,20 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     }
 
     fn err(&self, key: &str, reason: impl Into<String>) -> SceneError {
-        self.doc.error(key, reason)
+        self.doc.error(&format!("{}{key}", self.prefix), reason)
     }
 
     fn scene_d<const D: usize>(&self, raw: &RawScene) -> VResult<(SceneConfig<D>, RawScene)> {
         let name = self.name(raw.name.as_deref())?;
-        let (mesh, initial_velocity, raw_mesh) = self.mesh::<D>(&raw.mesh)?;
-        let (material, raw_material) = self.material(&raw.material)?;
-        self.mass(&mesh, material.density)?;
+        let (bodies, raw_mesh, raw_material, raw_bodies) = self.bodies::<D>(raw)?;
         let (time, raw_time) = self.time(&raw.time)?;
         let (solver, raw_solver) = self.solver(&raw.solver)?;
-        let (effects, raw_effects) = self.effects::<D>(&raw.effects, &mesh)?;
+        let (effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
         let ground_height = effects.ground.map(|g| g.height);
         let (field, render, raw_render) = self.render::<D>(&raw.render, ground_height)?;
         let config = SceneConfig {
             name: name.clone(),
-            mesh,
-            initial_velocity,
-            material,
+            bodies,
             time,
             solver,
             effects,
@@ -87,8 +96,119 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             solver: raw_solver,
             effects: raw_effects,
             render: raw_render,
+            bodies: raw_bodies,
         };
         Ok((config, resolved))
+    }
+
+    /// The bodies: `[mesh]` and `[material]` (one body), or `[[bodies]]`.
+    #[allow(clippy::type_complexity)]
+    fn bodies<const D: usize>(
+        &self,
+        raw: &RawScene,
+    ) -> VResult<(
+        Vec<BodyConfig<D>>,
+        Option<RawMesh>,
+        Option<RawMaterial>,
+        Option<Vec<RawBody>>,
+    )> {
+        match (&raw.mesh, &raw.material, &raw.bodies) {
+            (Some(mesh), Some(material), None) => {
+                let (body, raw_mesh, raw_material) = self.body::<D>(mesh, material)?;
+                Ok((vec![body], Some(raw_mesh), Some(raw_material), None))
+            }
+            (None, None, Some(list)) => {
+                if list.is_empty() {
+                    return Err(self.err("bodies", "needs at least one [[bodies]] entry"));
+                }
+                let mut bodies = Vec::with_capacity(list.len());
+                let mut resolved = Vec::with_capacity(list.len());
+                for (i, entry) in list.iter().enumerate() {
+                    let prefix = format!("bodies[{i}].");
+                    let v = self.under(prefix.clone());
+                    let (mut body, mesh, material) = v.body::<D>(&entry.mesh, &entry.material)?;
+                    if let Some(p) = &entry.pinned {
+                        let region = v.pin_region::<D>("pinned", p)?;
+                        if !body.mesh.vertices_in(&region).0 {
+                            return Err(v.err(
+                                "pinned",
+                                "the region from `min` to `max` contains no vertex of this body \
+                                 at rest; widen it to catch the vertices to hold",
+                            ));
+                        }
+                        body.pinned = Some(region);
+                    }
+                    body.key_prefix = prefix;
+                    bodies.push(body);
+                    resolved.push(RawBody {
+                        mesh,
+                        material,
+                        pinned: entry.pinned.clone(),
+                    });
+                }
+                Ok((bodies, None, None, Some(resolved)))
+            }
+            (_, _, Some(_)) => {
+                let key = if raw.mesh.is_some() {
+                    "mesh"
+                } else {
+                    "material"
+                };
+                Err(self.err(
+                    key,
+                    "cannot be given with [[bodies]]: a scene is one body ([mesh] and \
+                     [material]) or several ([[bodies]], each with its own mesh and material), \
+                     not both",
+                ))
+            }
+            (None, _, None) => Err(self.err(
+                "mesh",
+                "is required: give [mesh] and [material] for one body, or [[bodies]]",
+            )),
+            (Some(_), None, None) => Err(self.err(
+                "material",
+                "is required: give [mesh] and [material] for one body, or [[bodies]]",
+            )),
+        }
+    }
+
+    /// One body from its mesh and material tables (keys under `self.prefix`).
+    fn body<const D: usize>(
+        &self,
+        raw_mesh: &RawMesh,
+        raw_material: &RawMaterial,
+    ) -> VResult<(BodyConfig<D>, RawMesh, RawMaterial)> {
+        let (mesh, initial_velocity, raw_mesh) = self.mesh::<D>(raw_mesh)?;
+        let (material, raw_material) = self.material(raw_material)?;
+        self.mass(&mesh, material.density)?;
+        Ok((
+            BodyConfig {
+                mesh,
+                initial_velocity,
+                material,
+                pinned: None,
+                key_prefix: String::new(),
+            },
+            raw_mesh,
+            raw_material,
+        ))
+    }
+
+    /// A pinned box `min`..`max` at `key` (`effects.pinned`, `pinned`).
+    fn pin_region<const D: usize>(&self, key: &str, p: &RawPinned) -> VResult<PinRegion<D>> {
+        let min = self.vector::<D>(&format!("{key}.min"), &p.min)?;
+        let max = self.vector::<D>(&format!("{key}.max"), &p.max)?;
+        if let Some(axis) = (0..D).find(|&a| min[a] > max[a]) {
+            return Err(self.err(
+                &format!("{key}.max"),
+                format!(
+                    "is below {key}.min along axis {axis} ({} < {})",
+                    num(max[axis]),
+                    num(min[axis])
+                ),
+            ));
+        }
+        Ok(PinRegion { min, max })
     }
 
     /// The scene's name: it names the folder `out/NAME`, so it must be one
@@ -757,7 +877,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     fn effects<const D: usize>(
         &self,
         raw: &RawEffects,
-        mesh: &MeshConfig<D>,
+        bodies: &[BodyConfig<D>],
     ) -> VResult<(Effects<D>, RawEffects)> {
         let mut effects = Effects::<D>::default();
         let mut resolved = RawEffects::default();
@@ -790,20 +910,27 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 Some(k) => Some(self.positive("effects.ground.kappa", k)?),
                 None => None,
             };
-            let (bottom, key) = match mesh {
-                MeshConfig::Box(b) => (b.offset[UP_AXIS], "mesh.offset"),
-                MeshConfig::File(f) => (
-                    f.mesh
-                        .rest_positions()
-                        .iter()
-                        .map(|x| x[UP_AXIS])
-                        .fold(f64::INFINITY, f64::min),
-                    "mesh.translate",
-                ),
-            };
+            let (bottom, key) = bodies
+                .iter()
+                .map(|b| match &b.mesh {
+                    MeshConfig::Box(m) => {
+                        (m.offset[UP_AXIS], format!("{}mesh.offset", b.key_prefix))
+                    }
+                    MeshConfig::File(f) => (
+                        f.mesh
+                            .rest_positions()
+                            .iter()
+                            .map(|x| x[UP_AXIS])
+                            .fold(f64::INFINITY, f64::min),
+                        format!("{}mesh.translate", b.key_prefix),
+                    ),
+                })
+                .fold((f64::INFINITY, String::new()), |low, b| {
+                    if b.0 < low.0 { b } else { low }
+                });
             if bottom <= height {
                 return Err(self.err(
-                    key,
+                    &key,
                     format!(
                         "the mesh starts at height {}, on or below the ground at {} \
                          (effects.ground.height); raise {key}[{UP_AXIS}]",
@@ -824,32 +951,15 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             });
         }
         if let Some(p) = &raw.pinned {
-            let min = self.vector::<D>("effects.pinned.min", &p.min)?;
-            let max = self.vector::<D>("effects.pinned.max", &p.max)?;
-            if let Some(axis) = (0..D).find(|&a| min[a] > max[a]) {
-                return Err(self.err(
-                    "effects.pinned.max",
-                    format!(
-                        "is below effects.pinned.min along axis {axis} ({} < {})",
-                        num(max[axis]),
-                        num(min[axis])
-                    ),
-                ));
+            let PinRegion { min, max } = self.pin_region::<D>("effects.pinned", p)?;
+            // A vertex is pinned when it lies in the box (inclusive) at rest.
+            let region = PinRegion { min, max };
+            let (mut catches, mut holds_all) = (false, true);
+            for body in bodies {
+                let (c, h) = body.mesh.vertices_in(&region);
+                catches |= c;
+                holds_all &= h;
             }
-            // A vertex is pinned when it lies in the box (inclusive) at rest; the
-            // grid is a tensor product, so some vertex is caught exactly when
-            // every axis has a grid coordinate inside [min, max].
-            let inside = |x: &Vector<D>| (0..D).all(|a| min[a] <= x[a] && x[a] <= max[a]);
-            let (catches, holds_all) = match mesh {
-                MeshConfig::Box(mesh) => (
-                    (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a])),
-                    (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a])),
-                ),
-                MeshConfig::File(f) => (
-                    f.mesh.rest_positions().iter().any(inside),
-                    f.mesh.rest_positions().iter().all(inside),
-                ),
-            };
             if !catches {
                 return Err(self.err(
                     "effects.pinned",
