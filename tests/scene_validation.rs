@@ -112,7 +112,7 @@ fn the_settings_types_default_to_the_scene_file_defaults() {
     );
     assert_eq!(
         c.bodies[0].initial_velocity,
-        SceneConfig::<2>::default().initial_velocity
+        SceneConfig::<2>::default().bodies[0].initial_velocity
     );
     // MINIMAL sets the offset; without it the box starts at the default corner.
     let Scene::Two(m) = load(&edit(MINIMAL, "offset = [0.0, 10.0]\n", "")).unwrap() else {
