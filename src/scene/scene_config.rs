@@ -147,8 +147,8 @@ impl<const D: usize> PartialEq for FileMesh<D> {
 pub enum MeshConfig<const D: usize> {
     /// `generator = "box"` (the default).
     Box(BoxMesh<D>),
-    /// `generator = "file"`.
-    File(FileMesh<D>),
+    /// `generator = "file"` (boxed: it is much larger than a box's parameters).
+    File(Box<FileMesh<D>>),
 }
 
 impl<const D: usize> Default for MeshConfig<D> {

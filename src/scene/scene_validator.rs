@@ -347,7 +347,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 .map(|(b, v, r)| (MeshConfig::Box(b), v, r)),
             Generator::File => self
                 .file_mesh::<D>(raw)
-                .map(|(f, v, r)| (MeshConfig::File(f), v, r)),
+                .map(|(f, v, r)| (MeshConfig::File(Box::new(f)), v, r)),
         }
     }
 
