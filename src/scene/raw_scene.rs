@@ -111,7 +111,7 @@ pub(crate) struct RawMesh {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(
     untagged,
-    expecting = "a number of degrees (2D) or a list of three (3D)"
+    expecting = "expected a number of degrees (2D) or an array of three (3D)"
 )]
 pub(crate) enum RawRotate {
     /// A 2D rotation.
