@@ -231,6 +231,11 @@ fn two_bodies_keep_their_own_velocities_and_total_momentum() {
     let o = elasto(tmp.path(), &["check", "two.toml"]);
     assert_code(&o, 0);
     assert!(stdout(&o).contains("bodies          2"), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("42 vertices, 48 elements"),
+        "{}",
+        stdout(&o)
+    );
     let o = elasto(tmp.path(), &["run", "two.toml", "--no-render", "-q"]);
     assert_code(&o, 0);
     let (header, rows) = read_csv(&tmp.path().join("out/two/stats.csv"));
@@ -401,4 +406,99 @@ fn bodies_get_their_own_masses_and_velocities() {
             .iter()
             .all(|v| (v - Vector::<3>::new(0.0, 0.0, -4.0)).norm() < 1e-6)
     );
+}
+
+/// The strain energy of two bodies is each body's own, on its vertices: the
+/// value, the gradient and the assembled Hessian (block diagonal) match the
+/// bodies' `Elasticity` terms evaluated apart.
+#[test]
+fn body_elasticity_is_the_sum_of_the_bodies_terms() {
+    use elasto::assembly::SparseHessian;
+    use elasto::energy::{BodyElasticity, Elasticity, EnergyTerm};
+    use std::sync::Arc;
+    let material = |young| {
+        MaterialModel::NeoHookean.with_lame(
+            YoungPoisson {
+                young,
+                poisson: 0.3,
+            }
+            .into(),
+        )
+    };
+    let first = Arc::new(
+        Mesh::<2>::axis_aligned_box(Vector::<2>::zeros(), Vector::<2>::new(1.0, 2.0), [2, 3])
+            .unwrap(),
+    );
+    let second = Arc::new(
+        Mesh::<2>::axis_aligned_box(
+            Vector::<2>::new(3.0, 0.0),
+            Vector::<2>::new(4.0, 1.0),
+            [1, 2],
+        )
+        .unwrap(),
+    );
+    let (n1, n2) = (first.vertex_count(), second.vertex_count());
+    let terms = [
+        Elasticity::new(first.clone(), material(100.0)),
+        Elasticity::new(second.clone(), material(5000.0)),
+    ];
+    let both = BodyElasticity::bodies(vec![
+        (first.clone(), material(100.0)),
+        (second.clone(), material(5000.0)),
+    ])
+    .unwrap();
+    let mut positions: Vec<Vector<2>> = first
+        .rest_positions()
+        .iter()
+        .chain(second.rest_positions())
+        .copied()
+        .collect();
+    for (i, x) in positions.iter_mut().enumerate() {
+        *x += Vector::<2>::new(0.03 * (i as f64).sin(), 0.05 * (i as f64 * 1.7).cos());
+    }
+    let (x1, x2) = positions.split_at(n1);
+    let value = both.value(&positions);
+    let apart = terms[0].value(x1) + terms[1].value(x2);
+    assert!(
+        (value - apart).abs() <= 1e-12 * apart.abs(),
+        "{value} {apart}"
+    );
+
+    let mut gradient = vec![Vector::<2>::zeros(); n1 + n2];
+    both.add_gradient(&positions, 1.0, &mut gradient);
+    let mut g1 = vec![Vector::<2>::zeros(); n1];
+    let mut g2 = vec![Vector::<2>::zeros(); n2];
+    terms[0].add_gradient(x1, 1.0, &mut g1);
+    terms[1].add_gradient(x2, 1.0, &mut g2);
+    assert_eq!(gradient, [g1, g2].concat());
+
+    let mut simplices: Vec<Vec<usize>> = first.simplices().map(<[usize]>::to_vec).collect();
+    simplices.extend(
+        second
+            .simplices()
+            .map(|s| s.iter().map(|v| v + n1).collect()),
+    );
+    let scene = Mesh::<2>::new(positions_at_rest(&first, &second), simplices).unwrap();
+    let mut hessian = SparseHessian::new(&scene, (0..n1 + n2).map(Some).collect()).unwrap();
+    both.add_hessian(&positions, 1.0, &mut hessian);
+    let dense = hessian.to_dense();
+    let block = |term: &Elasticity<2>, mesh: &Mesh<2>, x: &[Vector<2>]| {
+        let mut h = SparseHessian::new(mesh, (0..mesh.vertex_count()).map(Some).collect()).unwrap();
+        term.add_hessian(x, 1.0, &mut h);
+        h.to_dense()
+    };
+    let (h1, h2) = (block(&terms[0], &first, x1), block(&terms[1], &second, x2));
+    let (d1, d2) = (2 * n1, 2 * n2);
+    assert_eq!(dense.view((0, 0), (d1, d1)), h1);
+    assert_eq!(dense.view((d1, d1), (d2, d2)), h2);
+    assert!(dense.view((0, d1), (d1, d2)).iter().all(|&v| v == 0.0));
+}
+
+fn positions_at_rest(first: &Mesh<2>, second: &Mesh<2>) -> Vec<Vector<2>> {
+    first
+        .rest_positions()
+        .iter()
+        .chain(second.rest_positions())
+        .copied()
+        .collect()
 }
