@@ -4,20 +4,22 @@
 mod common;
 use common::*;
 
-const BUILTINS: [&str; 4] = [
+const BUILTINS: [&str; 6] = [
     "report-drop-2d",
     "drop-3d",
     "hanging-bar-2d",
     "hanging-bar-3d",
+    "bunny-drop",
+    "two-bodies",
 ];
 
 #[test]
-fn scenes_lists_all_four_builtins() {
+fn scenes_lists_all_builtins() {
     let tmp = tempfile::tempdir().unwrap();
     let o = elasto(tmp.path(), &["scenes"]);
     assert_code(&o, 0);
     let text = stdout(&o);
-    assert_eq!(text.lines().count(), 4, "{text}");
+    assert_eq!(text.lines().count(), BUILTINS.len(), "{text}");
     for (line, name) in text.lines().zip(BUILTINS) {
         assert!(line.starts_with(name), "{line}");
     }
@@ -26,6 +28,15 @@ fn scenes_lists_all_four_builtins() {
 #[test]
 fn scenes_show_prints_toml_that_parses_and_checks() {
     let tmp = tempfile::tempdir().unwrap();
+    // Scenes with mesh files name them relative to the scene: a copy of the
+    // scene needs the meshes beside it, as in `scenes/`.
+    let meshes = tmp.path().join("meshes");
+    std::fs::create_dir(&meshes).unwrap();
+    let shipped = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/meshes");
+    for entry in std::fs::read_dir(shipped).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), meshes.join(entry.file_name())).unwrap();
+    }
     for name in BUILTINS {
         let o = elasto(tmp.path(), &["scenes", "show", name]);
         assert_code(&o, 0);

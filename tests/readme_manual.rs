@@ -102,7 +102,9 @@ fn every_flag_of_every_command_is_in_the_readme() {
 fn every_key_of_a_resolved_scene_is_in_its_readme_section() {
     let tmp = tempfile::tempdir().unwrap();
     // The built-in scenes, plus the optional keys they leave out.
-    let runs: [(&str, &[&str]); 5] = [
+    let runs: [(&str, &[&str]); 7] = [
+        ("bunny-drop", &[]),
+        ("two-bodies", &[]),
         ("report-drop-2d", &["--set", "render.range=[0.0, 1.0]"]),
         (
             "report-drop-2d",

@@ -67,11 +67,14 @@ fn minimal_scene_gets_documented_defaults() {
         panic!("2D")
     };
     assert_eq!(c.name, "test");
-    assert_eq!(c.mesh.cells, [5, 5]);
-    assert_eq!(c.mesh.offset.as_slice(), &[0.0, 10.0]);
-    assert_eq!(c.initial_velocity.as_slice(), &[0.0, 0.0]);
-    assert_eq!(c.material.density, 1.0);
-    let Material::StVenantKirchhoff(m) = c.material.material else {
+    assert_eq!(c.bodies[0].mesh.as_box().unwrap().cells, [5, 5]);
+    assert_eq!(
+        c.bodies[0].mesh.as_box().unwrap().offset.as_slice(),
+        &[0.0, 10.0]
+    );
+    assert_eq!(c.bodies[0].initial_velocity.as_slice(), &[0.0, 0.0]);
+    assert_eq!(c.bodies[0].material.density, 1.0);
+    let Material::StVenantKirchhoff(m) = c.bodies[0].material.material else {
         panic!("stvk")
     };
     // E = 300, nu = 0.3: mu = 300 / 2.6, lambda = 90 / (1.3 * 0.4).
@@ -103,16 +106,22 @@ fn the_settings_types_default_to_the_scene_file_defaults() {
     assert_eq!(c.time, TimeConfig::default());
     assert_eq!(c.solver, SolverSettings::default());
     assert_eq!(c.field, FieldChoice::default());
-    assert_eq!(c.material.density, MaterialConfig::default().density);
     assert_eq!(
-        c.initial_velocity,
-        SceneConfig::<2>::default().initial_velocity
+        c.bodies[0].material.density,
+        MaterialConfig::default().density
+    );
+    assert_eq!(
+        c.bodies[0].initial_velocity,
+        SceneConfig::<2>::default().bodies[0].initial_velocity
     );
     // MINIMAL sets the offset; without it the box starts at the default corner.
     let Scene::Two(m) = load(&edit(MINIMAL, "offset = [0.0, 10.0]\n", "")).unwrap() else {
         panic!("2D")
     };
-    assert_eq!(m.mesh.offset, BoxMesh::<2>::default().offset);
+    assert_eq!(
+        m.bodies[0].mesh.as_box().unwrap().offset,
+        BoxMesh::<2>::default().offset
+    );
     // The render settings are the renderer's type, with the renderer's defaults
     // except for what the scene names: the legend title of its field.
     assert_eq!(
@@ -135,7 +144,7 @@ fn the_settings_types_default_to_the_scene_file_defaults() {
 
 #[test]
 fn every_builtin_scene_is_valid_and_matches_its_name() {
-    assert_eq!(BUILTIN_SCENES.len(), 4);
+    assert_eq!(BUILTIN_SCENES.len(), 6);
     for b in BUILTIN_SCENES {
         let scene = Scene::load(&SceneSource::from_builtin(b), &[])
             .unwrap_or_else(|e| panic!("{}: {e}", b.name));
@@ -152,8 +161,8 @@ fn every_builtin_scene_is_valid_and_matches_its_name() {
     let drop = Scene::load(&SceneSource::resolve(None).unwrap(), &[]).unwrap();
     assert_eq!(drop.name(), "report-drop-2d");
     let Scene::Two(c) = drop else { panic!("2D") };
-    assert_eq!(c.mesh.cells, [5, 5]);
-    assert_eq!(c.mesh.offset[1], 10.0);
+    assert_eq!(c.bodies[0].mesh.as_box().unwrap().cells, [5, 5]);
+    assert_eq!(c.bodies[0].mesh.as_box().unwrap().offset[1], 10.0);
     assert_eq!(c.effects.gravity.unwrap().as_slice(), &[0.0, -1.0]);
     let ground = c.effects.ground.unwrap();
     assert_eq!((ground.height, ground.activation_distance), (0.0, 0.1));
@@ -180,8 +189,11 @@ target = [0, 0, 0]
     let Scene::Three(c) = load(text).unwrap() else {
         panic!("3D")
     };
-    assert_eq!(c.mesh.size.as_slice(), &[1.0, 2.0, 3.0]);
-    let Material::NeoHookean(m) = c.material.material else {
+    assert_eq!(
+        c.bodies[0].mesh.as_box().unwrap().size.as_slice(),
+        &[1.0, 2.0, 3.0]
+    );
+    let Material::NeoHookean(m) = c.bodies[0].material.material else {
         panic!("neo-hookean")
     };
     assert_eq!((m.lame.mu, m.lame.lambda), (10.0, 20.0));
@@ -435,8 +447,11 @@ fn missing_required_keys_are_named() {
     let d = diagnostic(load(&edit(MINIMAL, "dimension = 2\n", "")));
     assert!(d.reason.contains("missing field `dimension`"), "{d}");
     let d = diagnostic(load(&edit(MINIMAL, "cells = [5, 5]\n", "")));
-    assert!(d.reason.contains("missing field `cells`"), "{d}");
-    assert_eq!(d.key.as_deref(), Some("mesh"), "{d}");
+    assert!(
+        d.reason.contains("is required with generator = \"box\""),
+        "{d}"
+    );
+    assert_eq!(d.key.as_deref(), Some("mesh.cells"), "{d}");
 }
 
 #[test]
@@ -456,8 +471,11 @@ fn overrides_apply_before_validation_and_are_named_in_errors() {
     };
     assert_eq!(c.name, "renamed");
     assert_eq!(c.time.frames, 2);
-    assert!(matches!(c.material.material, Material::NeoHookean(_)));
-    assert!((c.material.material.parameter("mu").unwrap() - 1e3 / 2.6).abs() < 1e-9);
+    assert!(matches!(
+        c.bodies[0].material.material,
+        Material::NeoHookean(_)
+    ));
+    assert!((c.bodies[0].material.material.parameter("mu").unwrap() - 1e3 / 2.6).abs() < 1e-9);
     // The override created the effect: it exists only because it was asked for.
     assert_eq!(c.effects.gravity.unwrap().as_slice(), &[0.0, -9.81]);
 

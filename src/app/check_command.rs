@@ -34,7 +34,6 @@ fn barrier_stiffness<const D: usize>(
 fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String {
     let mut s = String::new();
     let time = scene.time();
-    let material = scene.material();
     let solver = scene.solver();
     let effects = scene.effect_names();
     let render = scene.render();
@@ -46,19 +45,31 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
         scene.vertex_count(),
         scene.element_count()
     );
-    let constants: Vec<String> = material
-        .material
-        .parameters()
-        .iter()
-        .map(|(name, value)| format!("{name} = {value}"))
-        .collect();
-    let _ = writeln!(
-        s,
-        "  material        {}, {}, density = {}",
-        material.model_name(),
-        constants.join(", "),
-        material.density
-    );
+    if scene.body_count() > 1 {
+        let _ = writeln!(
+            s,
+            "  bodies          {} (they do not collide with each other)",
+            scene.body_count()
+        );
+    }
+    for report in scene.import_reports() {
+        let _ = writeln!(s, "  mesh file       {report}");
+    }
+    for material in scene.materials() {
+        let constants: Vec<String> = material
+            .material
+            .parameters()
+            .iter()
+            .map(|(name, value)| format!("{name} = {value}"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  material        {}, {}, density = {}",
+            material.model_name(),
+            constants.join(", "),
+            material.density
+        );
+    }
     let _ = writeln!(
         s,
         "  effects         {}",

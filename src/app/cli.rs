@@ -45,6 +45,9 @@ pub struct RunArgs {
     /// Also write every frame's mesh as VTK (meshes/frame_NNNN.vtu and meshes/frames.pvd).
     #[arg(long)]
     pub save_meshes: bool,
+    /// Also write every frame's boundary surface as OBJ or binary PLY (surfaces/surface_NNNN.obj|ply, numbered like the frames; PLY carries the render field per vertex).
+    #[arg(long, value_name = "obj|ply")]
+    pub save_surface: Option<crate::output::SurfaceFormat>,
     /// Print nothing but errors and the health warning (no progress).
     #[arg(long, short)]
     pub quiet: bool,

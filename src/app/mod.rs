@@ -27,7 +27,7 @@ pub use progress::{Progress, ProgressMode};
 pub use run_health::RunHealth;
 
 use crate::scene::{SceneConfig, SceneError, SceneOverride};
-use crate::sim::{SimError, Simulation};
+use crate::sim::{Body, SimError, Simulation};
 use preflight::SceneInput;
 
 /// Runs one command.
@@ -60,19 +60,24 @@ fn build_simulation<const D: usize>(
     input: SceneInput,
 ) -> Result<Simulation<D>, AppError> {
     preflight::check_simulation_memory(config, input)?;
-    let mesh = config
-        .mesh
-        .build()
-        .map_err(|source| input.error("mesh", format!("cannot be meshed: {source}")))?;
-    let sim = Simulation::new(
-        mesh,
-        config.material.material,
-        config.material.density,
-        config.effects.clone(),
-        config.simulation_settings(),
-        config.initial_velocity,
-    )
-    .map_err(|source| setup_error(config, input, source))?;
+    let mut bodies = Vec::with_capacity(config.bodies.len());
+    for body in &config.bodies {
+        let mesh = body.mesh.build().map_err(|source| {
+            input.error(
+                &format!("{}mesh", body.key_prefix),
+                format!("cannot be meshed: {source}"),
+            )
+        })?;
+        bodies.push(Body {
+            mesh,
+            material: body.material.material,
+            density: body.material.density,
+            velocity: body.initial_velocity,
+            pinned: body.pinned,
+        });
+    }
+    let sim = Simulation::with_bodies(bodies, config.effects.clone(), config.simulation_settings())
+        .map_err(|source| setup_error(config, input, source))?;
     preflight::check_starting_energy(config, &sim, input)?;
     preflight::check_barrier_stiffness(config, &sim, input)?;
     Ok(sim)
@@ -87,6 +92,8 @@ fn setup_error<const D: usize>(
 ) -> AppError {
     let key = match &source {
         SimError::InvalidSetting { key, .. } => match *key {
+            "density" if config.bodies.len() > 1 => Some("bodies"),
+            "pinned" if config.bodies.len() > 1 => Some("bodies"),
             "density" => Some("material.density"),
             "dt" => Some("time.dt"),
             "tolerance" | "max_iterations" | "step" => Some("solver"),
@@ -94,6 +101,7 @@ fn setup_error<const D: usize>(
             "a" | "kappa" => Some("effects.ground"),
             _ => None,
         },
+        SimError::BelowGround { .. } if config.bodies.len() > 1 => Some("bodies"),
         SimError::BelowGround { .. } => Some("mesh.offset"),
         _ => None,
     };

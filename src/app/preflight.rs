@@ -39,13 +39,13 @@ pub(crate) const KAPPA_RATIO: [f64; 2] = [1e-6, 1e6];
 
 /// Bytes the simulation of `config` takes at least.
 fn simulation_bytes<const D: usize>(config: &SceneConfig<D>) -> u64 {
-    config.mesh.element_count() as u64 * SIMULATION_BYTES_PER_ELEMENT[D]
+    config.element_count() as u64 * SIMULATION_BYTES_PER_ELEMENT[D]
 }
 
 /// Bytes one frame kept for rendering after the run takes: positions as
 /// three 32-bit floats per vertex and one per element.
 fn kept_frame_bytes<const D: usize>(config: &SceneConfig<D>) -> u64 {
-    12 * config.mesh.vertex_count() as u64 + 4 * config.mesh.element_count() as u64 + 48
+    12 * config.vertex_count() as u64 + 4 * config.element_count() as u64 + 48
 }
 
 /// This machine's memory in bytes: the physical memory, or a smaller
@@ -84,11 +84,16 @@ pub(crate) fn check_simulation_memory<const D: usize>(
     };
     let needed = simulation_bytes(config);
     if needed > memory {
+        let key = match (&config.bodies[..], &config.bodies[0].mesh) {
+            ([_, _, ..], _) => "bodies",
+            (_, crate::scene::MeshConfig::Box(_)) => "mesh.cells",
+            (_, crate::scene::MeshConfig::File(_)) => "mesh.path",
+        };
         return Err(input.error(
-            "mesh.cells",
+            key,
             format!(
                 "the simulation of {} elements needs at least {}, more than this machine's {}",
-                config.mesh.element_count(),
+                config.element_count(),
                 bytes(needed),
                 bytes(memory)
             ),
@@ -117,8 +122,8 @@ pub(crate) fn check_kept_frames<const D: usize>(
                  the automatic camera and colour range, more than this machine's {}; fix \
                  `render.camera` and `render.range` (frames are then rendered as they are \
                  simulated), render fewer frames, or pass --no-render",
-                config.mesh.vertex_count(),
-                config.mesh.element_count(),
+                config.vertex_count(),
+                config.element_count(),
                 bytes(kept),
                 bytes(memory)
             ),
@@ -222,6 +227,8 @@ pub(crate) fn check_starting_energy<const D: usize>(
         .entries()
         .map(|(name, value)| {
             let key = match name {
+                "kinetic" if config.bodies.len() > 1 => "bodies",
+                "elastic" if config.bodies.len() > 1 => "bodies",
                 "kinetic" => "mesh.velocity",
                 "elastic" => "material",
                 "gravity" => "effects.gravity.acceleration",
@@ -261,8 +268,13 @@ pub(crate) fn check_starting_energy<const D: usize>(
         .zip(sim.velocities())
         .all(|(x, v)| (x + v * dt).iter().all(|c| c.is_finite()));
     if !prediction_finite {
+        let key = if config.bodies.len() > 1 {
+            "bodies"
+        } else {
+            "mesh.velocity"
+        };
         return Err(input.error(
-            "mesh.velocity",
+            key,
             format!(
                 "moves the body out of double precision in the first step (dt = {} s)",
                 approx(dt)

@@ -15,11 +15,11 @@ use super::render_stage::RenderStage;
 use super::run_health::RunHealth;
 use super::{AppError, build_simulation, scene_overrides};
 use crate::energy::ElementField;
-use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter};
+use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter, SurfaceFormat, SurfaceSeriesWriter};
 use crate::render::{
     RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support, video_file_name,
 };
-use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
+use crate::scene::{FieldChoice, Scene, SceneConfig, SceneOverride, SceneSource};
 use std::path::PathBuf;
 
 /// Runs `elasto run`.
@@ -62,6 +62,7 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         videos,
         render: !args.no_render,
         save_meshes: args.save_meshes,
+        save_surface: args.save_surface,
         force: args.force,
         strict: args.strict,
         progress: ProgressMode::detect(args.quiet),
@@ -83,6 +84,7 @@ struct Plan {
     videos: Vec<VideoFormat>,
     render: bool,
     save_meshes: bool,
+    save_surface: Option<SurfaceFormat>,
     force: bool,
     strict: bool,
     progress: ProgressMode,
@@ -113,6 +115,9 @@ impl Plan {
         let mut names = vec!["scene.toml", "stats.csv"];
         if self.save_meshes {
             names.push("meshes");
+        }
+        if self.save_surface.is_some() {
+            names.push("surfaces");
         }
         if self.render {
             names.push("frames");
@@ -151,6 +156,15 @@ fn run_scene<const D: usize>(
         None
     };
     let frames = config.time.frames;
+    let surfaces = match plan.save_surface {
+        Some(format) => Some(SurfaceSeriesWriter::create(
+            &out.join("surfaces"),
+            sim.mesh(),
+            format,
+            frames,
+        )?),
+        None => None,
+    };
     let mut render = render_mesh.map(|render_mesh| {
         let settings = config.render.clone();
         let outputs = RenderOutputs {
@@ -192,8 +206,15 @@ fn run_scene<const D: usize>(
         stats.write_frame(frame, &frame_stats)?;
         let steps = if frame == 0 { 0 } else { config.time.substeps };
         health.add(frame, steps, &frame_stats);
-        if meshes.is_some() || render.is_some() {
+        if meshes.is_some() || render.is_some() || surfaces.is_some() {
             let values = sim.element_field(field);
+            if let Some(writer) = &surfaces {
+                let shown = match config.field {
+                    FieldChoice::Flat => None,
+                    FieldChoice::Scalar(_) => Some((field_name, values.as_slice())),
+                };
+                writer.write_frame(frame, sim.positions(), shown)?;
+            }
             if let Some(writer) = &mut meshes {
                 writer.write_frame(
                     frame,
@@ -227,6 +248,9 @@ fn run_scene<const D: usize>(
         let mut wrote = vec!["scene.toml".to_owned(), "stats.csv".to_owned()];
         if plan.save_meshes {
             wrote.push("meshes/".into());
+        }
+        if plan.save_surface.is_some() {
+            wrote.push("surfaces/".into());
         }
         if plan.render {
             wrote.push("frames/".into());

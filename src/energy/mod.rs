@@ -24,12 +24,14 @@
 //! couples vertices sharing no element (contact pairs) needs the growing
 //! pattern described in [`crate::assembly`].
 
+mod body_elasticity;
 mod elasticity;
 mod element_field;
 mod gravity;
 mod ground_barrier;
 mod inertia;
 
+pub use body_elasticity::BodyElasticity;
 pub use elasticity::Elasticity;
 pub use element_field::ElementField;
 pub use gravity::Gravity;

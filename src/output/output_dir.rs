@@ -12,7 +12,7 @@ const OWNED_FILES: &[&str] = &[
     "video.gif",
 ];
 /// Sub-folders whose `frame_*` files and `frames.pvd` a run writes.
-const OWNED_FOLDERS: &[&str] = &["frames", "meshes"];
+const OWNED_FOLDERS: &[&str] = &["frames", "meshes", "surfaces"];
 
 /// An output folder that is ready to be written.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -28,12 +28,15 @@ fn ours_at_top(name: &str) -> bool {
         || (name.starts_with(".video.") && name.ends_with(".partial"))
 }
 
-/// Whether elasto writes or clears an entry of this name inside `frames/` or
-/// `meshes/` (frames, their hidden partial files, the ParaView collection).
+/// Whether elasto writes or clears an entry of this name inside `frames/`,
+/// `meshes/` or `surfaces/` (frames, surfaces, their hidden partial and
+/// temporary files, the ParaView collection).
 fn ours_inside(name: &str) -> bool {
     (name.starts_with("frame_") && (name.ends_with(".png") || name.ends_with(".vtu")))
         || name == "frames.pvd"
         || (name.starts_with(".frame_") && name.ends_with(".partial"))
+        || (name.starts_with("surface_") && (name.ends_with(".obj") || name.ends_with(".ply")))
+        || (name.starts_with(".surface_") && name.ends_with(".tmp"))
 }
 
 impl OutputDir {
@@ -67,7 +70,8 @@ impl OutputDir {
 
     /// Creates the folder and removes the outputs of an earlier run in it
     /// (only files elasto writes: `scene.toml`, `stats.csv`, `video.*`,
-    /// `frames/frame_*.png`, `meshes/frame_*.vtu`, `meshes/frames.pvd`), so
+    /// `frames/frame_*.png`, `meshes/frame_*.vtu`, `meshes/frames.pvd`,
+    /// `surfaces/surface_*.obj|ply`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
     /// [`OutputDir::check`] has made sure that none of these is a link.
     pub fn prepare(&self) -> Result<(), OutputError> {

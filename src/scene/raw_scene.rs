@@ -19,8 +19,10 @@ pub(crate) struct RawScene {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
     pub dimension: i64,
-    pub mesh: RawMesh,
-    pub material: RawMaterial,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<RawMesh>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<RawMaterial>,
     #[serde(default)]
     pub time: RawTime,
     #[serde(default)]
@@ -29,6 +31,19 @@ pub(crate) struct RawScene {
     pub effects: RawEffects,
     #[serde(default)]
     pub render: RawRender,
+    /// `[[bodies]]`, instead of `[mesh]` and `[material]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<Vec<RawBody>>,
+}
+
+/// One `[[bodies]]` entry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(crate) struct RawBody {
+    pub mesh: RawMesh,
+    pub material: RawMaterial,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pinned: Option<RawPinned>,
 }
 
 /// The names a key of enum type accepts, for messages (`` `stvk` or `neo-hookean` ``).
@@ -43,7 +58,7 @@ pub(crate) fn choices(key: &str) -> Option<String> {
         }
     };
     Some(match key {
-        "mesh.generator" => listed(&["box"]),
+        "mesh.generator" => listed(&["box", "file"]),
         "material.model" => listed(&MaterialModel::ALL.map(MaterialModel::name)),
         "time.integrator" => listed(&IntegratorKind::ALL.map(IntegratorKind::name)),
         "solver.method" => listed(&["newton", "gradient-descent"]),
@@ -59,6 +74,8 @@ pub(crate) enum Generator {
     /// An axis-aligned box split into simplices.
     #[default]
     Box,
+    /// A mesh read from a file (`mesh.path`).
+    File,
 }
 
 /// `[mesh]`.
@@ -67,12 +84,40 @@ pub(crate) enum Generator {
 pub(crate) struct RawMesh {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generator: Option<Generator>,
-    pub size: Vec<f64>,
-    pub cells: Vec<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cells: Option<Vec<i64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub offset: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub velocity: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotate: Option<RawRotate>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub translate: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orient: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub merge_tolerance: Option<f64>,
+}
+
+/// `mesh.rotate`: one angle in 2D (about the axis out of the plane), three in
+/// 3D (about x, y, z), in degrees.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "expected a number of degrees (2D) or an array of three (3D)"
+)]
+pub(crate) enum RawRotate {
+    /// A 2D rotation.
+    Angle(f64),
+    /// A 3D rotation about x, then y, then z.
+    Angles(Vec<f64>),
 }
 
 /// `[material]`.

@@ -15,9 +15,12 @@ use crate::material::Material;
 use crate::material::{MaterialModel, YoungPoisson};
 use crate::math::Vector;
 use crate::mesh::{Mesh, MeshError};
+use crate::mesh_io::{ImportOptions, ImportReport};
 use crate::render::RenderSettings;
-use crate::sim::{Effects, Ground, SimulationSettings};
+use crate::sim::{Effects, Ground, PinRegion, SimulationSettings};
 use crate::solver::SolverSettings;
+use std::path::PathBuf;
+use std::sync::Arc;
 
 /// Default output frames per second.
 pub const DEFAULT_FPS: f64 = 30.0;
@@ -115,6 +118,105 @@ impl<const D: usize> BoxMesh<D> {
     }
 }
 
+/// A mesh read from a file (`generator = "file"`): read, placed and cleaned
+/// when the scene is validated, so that counts and errors are known before
+/// any work starts.
+#[derive(Debug, Clone)]
+pub struct FileMesh<const D: usize> {
+    /// The file, resolved against the scene file's folder (a built-in
+    /// scene's against `scenes/`).
+    pub path: PathBuf,
+    /// Placement and cleaning (`mesh.scale`, `mesh.rotate`, `mesh.translate`,
+    /// `mesh.orient`, `mesh.merge_tolerance`).
+    pub options: ImportOptions<D>,
+    /// The cleaned mesh.
+    pub mesh: Arc<Mesh<D>>,
+    /// What the import ignored, re-oriented, dropped and merged.
+    pub report: ImportReport,
+}
+
+impl<const D: usize> PartialEq for FileMesh<D> {
+    /// Same file, options and report (the mesh follows from them).
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path && self.options == other.options && self.report == other.report
+    }
+}
+
+/// A body's rest mesh: generated or read from a file (`[mesh]`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum MeshConfig<const D: usize> {
+    /// `generator = "box"` (the default).
+    Box(BoxMesh<D>),
+    /// `generator = "file"` (boxed: it is much larger than a box's parameters).
+    File(Box<FileMesh<D>>),
+}
+
+impl<const D: usize> Default for MeshConfig<D> {
+    fn default() -> Self {
+        MeshConfig::Box(BoxMesh::default())
+    }
+}
+
+impl<const D: usize> MeshConfig<D> {
+    /// Builds (or hands out a copy of the imported) mesh.
+    pub fn build(&self) -> Result<Mesh<D>, MeshError> {
+        match self {
+            MeshConfig::Box(b) => b.build(),
+            MeshConfig::File(f) => Ok(Mesh::clone(&f.mesh)),
+        }
+    }
+
+    /// Number of vertices the mesh has.
+    pub fn vertex_count(&self) -> usize {
+        match self {
+            MeshConfig::Box(b) => b.vertex_count(),
+            MeshConfig::File(f) => f.mesh.vertex_count(),
+        }
+    }
+
+    /// Number of simplices the mesh has.
+    pub fn element_count(&self) -> usize {
+        match self {
+            MeshConfig::Box(b) => b.element_count(),
+            MeshConfig::File(f) => f.mesh.element_count(),
+        }
+    }
+
+    /// Whether some vertex lies in `region` (inclusive) at rest, and whether
+    /// every vertex does. A box's grid is a tensor product, so some vertex
+    /// is caught exactly when every axis has a grid coordinate inside.
+    pub fn vertices_in(&self, region: &PinRegion<D>) -> (bool, bool) {
+        let (min, max) = (region.min, region.max);
+        match self {
+            MeshConfig::Box(mesh) => (
+                (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a])),
+                (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a])),
+            ),
+            MeshConfig::File(f) => {
+                let inside = |x: &Vector<D>| (0..D).all(|a| min[a] <= x[a] && x[a] <= max[a]);
+                let positions = f.mesh.rest_positions();
+                (positions.iter().any(inside), positions.iter().all(inside))
+            }
+        }
+    }
+
+    /// The box generator's parameters, for a box.
+    pub fn as_box(&self) -> Option<&BoxMesh<D>> {
+        match self {
+            MeshConfig::Box(b) => Some(b),
+            MeshConfig::File(_) => None,
+        }
+    }
+
+    /// The import report, for a mesh file.
+    pub fn import_report(&self) -> Option<&ImportReport> {
+        match self {
+            MeshConfig::Box(_) => None,
+            MeshConfig::File(f) => Some(&f.report),
+        }
+    }
+}
+
 /// The material and its density (`[material]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaterialConfig {
@@ -145,6 +247,37 @@ impl MaterialConfig {
     /// The model's scene-file name (`stvk` or `neo-hookean`).
     pub fn model_name(&self) -> &'static str {
         self.material.model().name()
+    }
+}
+
+/// One body: its mesh, material, initial velocity and pinned region
+/// (`[mesh]` and `[material]`, or one `[[bodies]]` entry).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BodyConfig<const D: usize> {
+    /// The body's rest mesh (default: a unit box of one cell).
+    pub mesh: MeshConfig<D>,
+    /// Initial velocity of every vertex, in length/s (default: zero).
+    pub initial_velocity: Vector<D>,
+    /// Material (default: [`MaterialConfig::default`]).
+    pub material: MaterialConfig,
+    /// The body's vertices inside this box at rest are pinned (`bodies.pinned`;
+    /// default: none; a single-body scene pins with `[effects.pinned]`).
+    pub pinned: Option<PinRegion<D>>,
+    /// The prefix of this body's scene keys, for messages: empty for
+    /// `[mesh]` and `[material]`, `bodies[1].` for the second `[[bodies]]`
+    /// entry (default: empty).
+    pub key_prefix: String,
+}
+
+impl<const D: usize> Default for BodyConfig<D> {
+    fn default() -> Self {
+        Self {
+            mesh: MeshConfig::default(),
+            initial_velocity: Vector::<D>::zeros(),
+            material: MaterialConfig::default(),
+            pinned: None,
+            key_prefix: String::new(),
+        }
     }
 }
 
@@ -230,12 +363,9 @@ pub struct SceneConfig<const D: usize> {
     /// The scene's name, which names the default output folder `out/NAME`
     /// (default: the file stem, or the built-in scene's name).
     pub name: String,
-    /// The body's rest mesh.
-    pub mesh: BoxMesh<D>,
-    /// Initial velocity of every vertex, in length/s (default: zero).
-    pub initial_velocity: Vector<D>,
-    /// Material.
-    pub material: MaterialConfig,
+    /// The bodies, at least one (default: one [`BodyConfig::default`]).
+    /// They share gravity and the ground and do not collide with each other.
+    pub bodies: Vec<BodyConfig<D>>,
     /// Frames and time step.
     pub time: TimeConfig,
     /// Nonlinear solver (default: [`SolverSettings::default`]).
@@ -255,9 +385,7 @@ impl<const D: usize> Default for SceneConfig<D> {
     fn default() -> Self {
         Self {
             name: "scene".to_owned(),
-            mesh: BoxMesh::default(),
-            initial_velocity: Vector::<D>::zeros(),
-            material: MaterialConfig::default(),
+            bodies: vec![BodyConfig::default()],
             time: TimeConfig::default(),
             solver: SolverSettings::default(),
             effects: Effects::default(),
@@ -268,6 +396,16 @@ impl<const D: usize> Default for SceneConfig<D> {
 }
 
 impl<const D: usize> SceneConfig<D> {
+    /// Number of vertices of all bodies.
+    pub fn vertex_count(&self) -> usize {
+        self.bodies.iter().map(|b| b.mesh.vertex_count()).sum()
+    }
+
+    /// Number of elements of all bodies.
+    pub fn element_count(&self) -> usize {
+        self.bodies.iter().map(|b| b.mesh.element_count()).sum()
+    }
+
     /// Settings of the time integrator.
     pub fn simulation_settings(&self) -> SimulationSettings {
         SimulationSettings {
@@ -350,9 +488,19 @@ impl Scene {
         common!(self, c => &c.time)
     }
 
-    /// Material.
+    /// The first body's material.
     pub fn material(&self) -> &MaterialConfig {
-        common!(self, c => &c.material)
+        common!(self, c => &c.bodies[0].material)
+    }
+
+    /// Every body's material, in order.
+    pub fn materials(&self) -> Vec<&MaterialConfig> {
+        common!(self, c => c.bodies.iter().map(|b| &b.material).collect())
+    }
+
+    /// Number of bodies.
+    pub fn body_count(&self) -> usize {
+        common!(self, c => c.bodies.len())
     }
 
     /// Solver settings.
@@ -372,12 +520,17 @@ impl Scene {
 
     /// Number of mesh vertices.
     pub fn vertex_count(&self) -> usize {
-        common!(self, c => c.mesh.vertex_count())
+        common!(self, c => c.vertex_count())
     }
 
     /// Number of mesh elements.
     pub fn element_count(&self) -> usize {
-        common!(self, c => c.mesh.element_count())
+        common!(self, c => c.element_count())
+    }
+
+    /// What importing each mesh file found (bodies with a box mesh have none).
+    pub fn import_reports(&self) -> Vec<&ImportReport> {
+        common!(self, c => c.bodies.iter().filter_map(|b| b.mesh.import_report()).collect())
     }
 
     /// Ground height, when there is a ground.

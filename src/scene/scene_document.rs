@@ -100,7 +100,19 @@ impl<'a> SceneDocument<'a> {
         let mut table = self.root.get_ref();
         let mut span = None;
         for (i, part) in parts.iter().enumerate() {
-            let Some(value) = table.get(*part) else { break };
+            // `bodies[1]`: item 1 of the array `bodies`.
+            let (name, index) = match part.strip_suffix(']').and_then(|p| p.split_once('[')) {
+                Some((name, index)) => (name, index.parse::<usize>().ok()),
+                None => (*part, None),
+            };
+            let Some(mut value) = table.get(name) else {
+                break;
+            };
+            if let (Some(index), DeValue::Array(items)) = (index, value.get_ref()) {
+                span = Some(value.span());
+                let Some(item) = items.get(index) else { break };
+                value = item;
+            }
             span = Some(value.span());
             match value.get_ref() {
                 DeValue::Table(t) if i + 1 < parts.len() => table = t,

@@ -36,6 +36,16 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
         description: "soft 3D bar pinned at its top end, hanging down, bouncing and swinging",
         toml: include_str!("../../scenes/hanging-bar-3d.toml"),
     },
+    BuiltinScene {
+        name: "bunny-drop",
+        description: "the shipped bunny-like tetrahedral mesh (scenes/meshes/bunny.msh) dropped onto the ground",
+        toml: include_str!("../../scenes/bunny-drop.toml"),
+    },
+    BuiltinScene {
+        name: "two-bodies",
+        description: "a soft ball and a stiffer ring (shipped meshes) falling side by side onto the ground",
+        toml: include_str!("../../scenes/two-bodies.toml"),
+    },
 ];
 
 /// The scene used when none is named.

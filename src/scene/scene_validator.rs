@@ -8,30 +8,34 @@
 
 use super::SceneError;
 use super::raw_scene::{
-    FieldName, Generator, Method, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
-    RawRender, RawScene, RawSolver, RawTime,
+    FieldName, Generator, Method, RawBody, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
+    RawPinned, RawRender, RawRotate, RawScene, RawSolver, RawTime,
 };
 use super::scene_config::{
-    BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
-    DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
+    BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
+    DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES, MAX_NAME_BYTES,
-    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, Scene, SceneConfig, TimeConfig,
-    image_bytes,
+    DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
+    MAX_NAME_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene,
+    SceneConfig, TimeConfig, image_bytes,
 };
 use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
 use crate::energy::ElementField;
 use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector};
+use crate::mesh_io::{ImportOptions, load_mesh};
 use crate::render::{Camera, Colouring, RenderSettings};
 use crate::sim::{Effects, Ground, PinRegion};
 use crate::solver::{SolverMethod, SolverSettings};
+use std::path::{Path, PathBuf};
 
 /// Turns a [`RawScene`] into a [`Scene`] plus the resolved raw form,
 /// reporting each problem at its key.
 pub(crate) struct SceneValidator<'d, 'a> {
     doc: &'d SceneDocument<'a>,
+    /// Put before every key in messages: `bodies[1].` while validating a body.
+    prefix: String,
 }
 
 type VResult<T> = std::result::Result<T, SceneError>;
@@ -39,7 +43,18 @@ type VResult<T> = std::result::Result<T, SceneError>;
 impl<'d, 'a> SceneValidator<'d, 'a> {
     /// A validator whose messages point into `doc`.
     pub fn new(doc: &'d SceneDocument<'a>) -> Self {
-        Self { doc }
+        Self {
+            doc,
+            prefix: String::new(),
+        }
+    }
+
+    /// A validator for the keys under `prefix` (e.g. `bodies[1].`).
+    fn under(&self, prefix: String) -> Self {
+        Self {
+            doc: self.doc,
+            prefix,
+        }
     }
 
     /// The typed scene and its resolved raw form.
@@ -52,24 +67,20 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     }
 
     fn err(&self, key: &str, reason: impl Into<String>) -> SceneError {
-        self.doc.error(key, reason)
+        self.doc.error(&format!("{}{key}", self.prefix), reason)
     }
 
     fn scene_d<const D: usize>(&self, raw: &RawScene) -> VResult<(SceneConfig<D>, RawScene)> {
         let name = self.name(raw.name.as_deref())?;
-        let (mesh, initial_velocity, raw_mesh) = self.mesh::<D>(&raw.mesh)?;
-        let (material, raw_material) = self.material(&raw.material)?;
-        self.mass(&mesh, material.density)?;
+        let (bodies, raw_mesh, raw_material, raw_bodies) = self.bodies::<D>(raw)?;
         let (time, raw_time) = self.time(&raw.time)?;
         let (solver, raw_solver) = self.solver(&raw.solver)?;
-        let (effects, raw_effects) = self.effects::<D>(&raw.effects, &mesh)?;
+        let (effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
         let ground_height = effects.ground.map(|g| g.height);
         let (field, render, raw_render) = self.render::<D>(&raw.render, ground_height)?;
         let config = SceneConfig {
             name: name.clone(),
-            mesh,
-            initial_velocity,
-            material,
+            bodies,
             time,
             solver,
             effects,
@@ -85,8 +96,119 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             solver: raw_solver,
             effects: raw_effects,
             render: raw_render,
+            bodies: raw_bodies,
         };
         Ok((config, resolved))
+    }
+
+    /// The bodies: `[mesh]` and `[material]` (one body), or `[[bodies]]`.
+    #[allow(clippy::type_complexity)]
+    fn bodies<const D: usize>(
+        &self,
+        raw: &RawScene,
+    ) -> VResult<(
+        Vec<BodyConfig<D>>,
+        Option<RawMesh>,
+        Option<RawMaterial>,
+        Option<Vec<RawBody>>,
+    )> {
+        match (&raw.mesh, &raw.material, &raw.bodies) {
+            (Some(mesh), Some(material), None) => {
+                let (body, raw_mesh, raw_material) = self.body::<D>(mesh, material)?;
+                Ok((vec![body], Some(raw_mesh), Some(raw_material), None))
+            }
+            (None, None, Some(list)) => {
+                if list.is_empty() {
+                    return Err(self.err("bodies", "needs at least one [[bodies]] entry"));
+                }
+                let mut bodies = Vec::with_capacity(list.len());
+                let mut resolved = Vec::with_capacity(list.len());
+                for (i, entry) in list.iter().enumerate() {
+                    let prefix = format!("bodies[{i}].");
+                    let v = self.under(prefix.clone());
+                    let (mut body, mesh, material) = v.body::<D>(&entry.mesh, &entry.material)?;
+                    if let Some(p) = &entry.pinned {
+                        let region = v.pin_region::<D>("pinned", p)?;
+                        if !body.mesh.vertices_in(&region).0 {
+                            return Err(v.err(
+                                "pinned",
+                                "the region from `min` to `max` contains no vertex of this body \
+                                 at rest; widen it to catch the vertices to hold",
+                            ));
+                        }
+                        body.pinned = Some(region);
+                    }
+                    body.key_prefix = prefix;
+                    bodies.push(body);
+                    resolved.push(RawBody {
+                        mesh,
+                        material,
+                        pinned: entry.pinned.clone(),
+                    });
+                }
+                Ok((bodies, None, None, Some(resolved)))
+            }
+            (_, _, Some(_)) => {
+                let key = if raw.mesh.is_some() {
+                    "mesh"
+                } else {
+                    "material"
+                };
+                Err(self.err(
+                    key,
+                    "cannot be given with [[bodies]]: a scene is one body ([mesh] and \
+                     [material]) or several ([[bodies]], each with its own mesh and material), \
+                     not both",
+                ))
+            }
+            (None, _, None) => Err(self.err(
+                "mesh",
+                "is required: give [mesh] and [material] for one body, or [[bodies]]",
+            )),
+            (Some(_), None, None) => Err(self.err(
+                "material",
+                "is required: give [mesh] and [material] for one body, or [[bodies]]",
+            )),
+        }
+    }
+
+    /// One body from its mesh and material tables (keys under `self.prefix`).
+    fn body<const D: usize>(
+        &self,
+        raw_mesh: &RawMesh,
+        raw_material: &RawMaterial,
+    ) -> VResult<(BodyConfig<D>, RawMesh, RawMaterial)> {
+        let (mesh, initial_velocity, raw_mesh) = self.mesh::<D>(raw_mesh)?;
+        let (material, raw_material) = self.material(raw_material)?;
+        self.mass(&mesh, material.density)?;
+        Ok((
+            BodyConfig {
+                mesh,
+                initial_velocity,
+                material,
+                pinned: None,
+                key_prefix: String::new(),
+            },
+            raw_mesh,
+            raw_material,
+        ))
+    }
+
+    /// A pinned box `min`..`max` at `key` (`effects.pinned`, `pinned`).
+    fn pin_region<const D: usize>(&self, key: &str, p: &RawPinned) -> VResult<PinRegion<D>> {
+        let min = self.vector::<D>(&format!("{key}.min"), &p.min)?;
+        let max = self.vector::<D>(&format!("{key}.max"), &p.max)?;
+        if let Some(axis) = (0..D).find(|&a| min[a] > max[a]) {
+            return Err(self.err(
+                &format!("{key}.max"),
+                format!(
+                    "is below {key}.min along axis {axis} ({} < {})",
+                    num(max[axis]),
+                    num(min[axis])
+                ),
+            ));
+        }
+        Ok(PinRegion { min, max })
     }
 
     /// The scene's name: it names the folder `out/NAME`, so it must be one
@@ -184,26 +306,181 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         Ok(())
     }
 
-    fn mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
-        let Generator::Box = raw.generator.unwrap_or_default();
-        let size = self.vector::<D>("mesh.size", &raw.size)?;
+    fn mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(MeshConfig<D>, Vector<D>, RawMesh)> {
+        let generator = raw.generator.unwrap_or_default();
+        let (used, other, hint) = match generator {
+            Generator::Box => (
+                "box",
+                [
+                    ("path", raw.path.is_some()),
+                    ("scale", raw.scale.is_some()),
+                    ("rotate", raw.rotate.is_some()),
+                    ("translate", raw.translate.is_some()),
+                    ("orient", raw.orient.is_some()),
+                    ("merge_tolerance", raw.merge_tolerance.is_some()),
+                ]
+                .to_vec(),
+                "file",
+            ),
+            Generator::File => (
+                "file",
+                [
+                    ("size", raw.size.is_some()),
+                    ("cells", raw.cells.is_some()),
+                    ("offset", raw.offset.is_some()),
+                ]
+                .to_vec(),
+                "box",
+            ),
+        };
+        if let Some((key, _)) = other.iter().find(|(_, present)| *present) {
+            return Err(self.err(
+                &format!("mesh.{key}"),
+                format!(
+                    "is only used with generator = \"{hint}\" (this mesh is generator = \"{used}\")"
+                ),
+            ));
+        }
+        match generator {
+            Generator::Box => self
+                .box_mesh::<D>(raw)
+                .map(|(b, v, r)| (MeshConfig::Box(b), v, r)),
+            Generator::File => self
+                .file_mesh::<D>(raw)
+                .map(|(f, v, r)| (MeshConfig::File(Box::new(f)), v, r)),
+        }
+    }
+
+    /// Where a relative mesh path points: beside the scene file, or under
+    /// `scenes/` of this source tree for a built-in scene.
+    fn mesh_folder(&self) -> PathBuf {
+        match &self.doc.source().path {
+            Some(file) => file.parent().map(Path::to_owned).unwrap_or_default(),
+            None => Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes"),
+        }
+    }
+
+    fn file_mesh<const D: usize>(
+        &self,
+        raw: &RawMesh,
+    ) -> VResult<(FileMesh<D>, Vector<D>, RawMesh)> {
+        let given = raw
+            .path
+            .as_deref()
+            .ok_or_else(|| self.err("mesh.path", "is required with generator = \"file\""))?;
+        if given.trim().is_empty() {
+            return Err(self.err("mesh.path", "must not be empty"));
+        }
+        let path = self.mesh_folder().join(given);
+        let path = std::path::absolute(&path).unwrap_or(path);
+        let scale = self.positive("mesh.scale", raw.scale.unwrap_or(1.0))?;
+        let rotate = match (&raw.rotate, D) {
+            (None, _) => [0.0; 3],
+            (Some(RawRotate::Angle(a)), 2) if a.is_finite() => [0.0, 0.0, *a],
+            (Some(RawRotate::Angles(v)), 3) if v.len() == 3 && v.iter().all(|a| a.is_finite()) => {
+                [v[0], v[1], v[2]]
+            }
+            (Some(_), 2) => {
+                return Err(self.err(
+                    "mesh.rotate",
+                    "is one finite angle in degrees in 2D (about the axis out of the plane)",
+                ));
+            }
+            (Some(_), _) => {
+                return Err(self.err(
+                    "mesh.rotate",
+                    "is three finite angles in degrees in 3D (about x, then y, then z)",
+                ));
+            }
+        };
+        let translate = match &raw.translate {
+            Some(v) => self.vector::<D>("mesh.translate", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        let merge_tolerance = raw.merge_tolerance.unwrap_or(0.0);
+        if !(merge_tolerance.is_finite() && merge_tolerance >= 0.0) {
+            return Err(self.err(
+                "mesh.merge_tolerance",
+                format!("must be a finite number >= 0, got {}", num(merge_tolerance)),
+            ));
+        }
+        let orient = raw.orient.unwrap_or(true);
+        let velocity = match &raw.velocity {
+            Some(v) => self.vector::<D>("mesh.velocity", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        let options = ImportOptions {
+            orient,
+            merge_tolerance,
+            scale,
+            rotate,
+            translate,
+        };
+        let (mesh, report) = load_mesh::<D>(&path, &options)
+            .map_err(|e| self.err("mesh.path", format!("cannot be imported: {e}")))?;
+        let coordinates: Vec<f64> = mesh
+            .rest_positions()
+            .iter()
+            .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
+            .collect();
+        self.single_precision("mesh.translate", &coordinates, false)?;
+        let resolved = RawMesh {
+            generator: Some(Generator::File),
+            size: None,
+            cells: None,
+            offset: None,
+            velocity: Some(velocity.iter().copied().collect()),
+            path: Some(path.display().to_string()),
+            scale: Some(scale),
+            rotate: Some(if D == 2 {
+                RawRotate::Angle(rotate[2])
+            } else {
+                RawRotate::Angles(rotate.to_vec())
+            }),
+            translate: Some(translate.iter().copied().collect()),
+            orient: Some(orient),
+            merge_tolerance: Some(merge_tolerance),
+        };
+        Ok((
+            FileMesh {
+                path,
+                options,
+                mesh: std::sync::Arc::new(mesh),
+                report,
+            },
+            velocity,
+            resolved,
+        ))
+    }
+
+    fn box_mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
+        let required = |key: &str| {
+            self.err(
+                key,
+                "is required with generator = \"box\" (give `size` and `cells`, or use \
+                 generator = \"file\" with `path`)",
+            )
+        };
+        let raw_size = raw.size.as_ref().ok_or_else(|| required("mesh.size"))?;
+        let raw_cells = raw.cells.as_ref().ok_or_else(|| required("mesh.cells"))?;
+        let size = self.vector::<D>("mesh.size", raw_size)?;
         if let Some(bad) = size.iter().find(|s| **s <= 0.0) {
             return Err(self.err(
                 "mesh.size",
                 format!("every extent must be > 0, got {}", num(*bad)),
             ));
         }
-        if raw.cells.len() != D {
+        if raw_cells.len() != D {
             return Err(self.err(
                 "mesh.cells",
                 format!(
                     "needs {D} components (dimension = {D}), got {}",
-                    raw.cells.len()
+                    raw_cells.len()
                 ),
             ));
         }
         let mut cells = [0usize; D];
-        for (c, &n) in cells.iter_mut().zip(&raw.cells) {
+        for (c, &n) in cells.iter_mut().zip(raw_cells) {
             *c = self.count("mesh.cells", n, MAX_CELLS)?;
         }
         let total = cells.iter().try_fold(1usize, |acc, &c| acc.checked_mul(c));
@@ -212,7 +489,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 "mesh.cells",
                 format!(
                     "{:?} makes {} cells, more than the {MAX_CELLS} allowed",
-                    raw.cells,
+                    raw_cells,
                     cells.iter().map(|&c| c as f64).product::<f64>()
                 ),
             ));
@@ -232,10 +509,11 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         };
         let resolved = RawMesh {
             generator: Some(Generator::Box),
-            size: size.iter().copied().collect(),
-            cells: raw.cells.clone(),
+            size: Some(size.iter().copied().collect()),
+            cells: Some(raw_cells.clone()),
             offset: Some(offset.iter().copied().collect()),
             velocity: Some(velocity.iter().copied().collect()),
+            ..raw.clone()
         };
         Ok((
             BoxMesh {
@@ -305,12 +583,25 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     }
 
     /// Masses are density times element volumes: they must be normal doubles.
-    fn mass<const D: usize>(&self, mesh: &BoxMesh<D>, density: f64) -> VResult<()> {
-        let element: f64 = (0..D)
-            .map(|a| mesh.size[a] / mesh.cells[a] as f64)
-            .product::<f64>()
-            / (1..=D + 1).product::<usize>() as f64;
-        let total = density * mesh.size.iter().product::<f64>();
+    fn mass<const D: usize>(&self, mesh: &MeshConfig<D>, density: f64) -> VResult<()> {
+        let (element, volume) = match mesh {
+            MeshConfig::Box(mesh) => (
+                (0..D)
+                    .map(|a| mesh.size[a] / mesh.cells[a] as f64)
+                    .product::<f64>()
+                    / (1..=D + 1).product::<usize>() as f64,
+                mesh.size.iter().product::<f64>(),
+            ),
+            MeshConfig::File(f) => (
+                f.mesh
+                    .rest_elements()
+                    .iter()
+                    .map(|e| e.volume)
+                    .fold(f64::INFINITY, f64::min),
+                f.mesh.rest_volume(),
+            ),
+        };
+        let total = density * volume;
         if !(density * element >= f64::MIN_POSITIVE && total.is_finite()) {
             return Err(self.err(
                 "material.density",
@@ -586,7 +877,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     fn effects<const D: usize>(
         &self,
         raw: &RawEffects,
-        mesh: &BoxMesh<D>,
+        bodies: &[BodyConfig<D>],
     ) -> VResult<(Effects<D>, RawEffects)> {
         let mut effects = Effects::<D>::default();
         let mut resolved = RawEffects::default();
@@ -619,13 +910,30 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 Some(k) => Some(self.positive("effects.ground.kappa", k)?),
                 None => None,
             };
-            let bottom = mesh.offset[UP_AXIS];
+            let (bottom, key) = bodies
+                .iter()
+                .map(|b| match &b.mesh {
+                    MeshConfig::Box(m) => {
+                        (m.offset[UP_AXIS], format!("{}mesh.offset", b.key_prefix))
+                    }
+                    MeshConfig::File(f) => (
+                        f.mesh
+                            .rest_positions()
+                            .iter()
+                            .map(|x| x[UP_AXIS])
+                            .fold(f64::INFINITY, f64::min),
+                        format!("{}mesh.translate", b.key_prefix),
+                    ),
+                })
+                .fold((f64::INFINITY, String::new()), |low, b| {
+                    if b.0 < low.0 { b } else { low }
+                });
             if bottom <= height {
                 return Err(self.err(
-                    "mesh.offset",
+                    &key,
                     format!(
                         "the mesh starts at height {}, on or below the ground at {} \
-                         (effects.ground.height); raise mesh.offset[{UP_AXIS}]",
+                         (effects.ground.height); raise {key}[{UP_AXIS}]",
                         num(bottom),
                         num(height)
                     ),
@@ -643,31 +951,21 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             });
         }
         if let Some(p) = &raw.pinned {
-            let min = self.vector::<D>("effects.pinned.min", &p.min)?;
-            let max = self.vector::<D>("effects.pinned.max", &p.max)?;
-            if let Some(axis) = (0..D).find(|&a| min[a] > max[a]) {
-                return Err(self.err(
-                    "effects.pinned.max",
-                    format!(
-                        "is below effects.pinned.min along axis {axis} ({} < {})",
-                        num(max[axis]),
-                        num(min[axis])
-                    ),
-                ));
+            let PinRegion { min, max } = self.pin_region::<D>("effects.pinned", p)?;
+            // A vertex is pinned when it lies in the box (inclusive) at rest.
+            let region = PinRegion { min, max };
+            let (mut catches, mut holds_all) = (false, true);
+            for body in bodies {
+                let (c, h) = body.mesh.vertices_in(&region);
+                catches |= c;
+                holds_all &= h;
             }
-            // A vertex is pinned when it lies in the box (inclusive) at rest; the
-            // grid is a tensor product, so some vertex is caught exactly when
-            // every axis has a grid coordinate inside [min, max].
-            let catches =
-                (0..D).all(|a| mesh.axis_coordinates(a).any(|x| min[a] <= x && x <= max[a]));
             if !catches {
                 return Err(self.err(
                     "effects.pinned",
                     "the region from `min` to `max` contains no mesh vertex at rest; widen it to catch the vertices to hold",
                 ));
             }
-            let holds_all =
-                (0..D).all(|a| mesh.axis_coordinates(a).all(|x| min[a] <= x && x <= max[a]));
             if holds_all {
                 return Err(self.err(
                     "effects.pinned",

@@ -18,6 +18,7 @@
 //! (building it and its list of terms from the scene's effects),
 //! `stepping.rs` (one step, one frame), `stats.rs` (what a step reports).
 
+mod body;
 mod effects;
 mod sim_error;
 mod simulation;
@@ -25,6 +26,7 @@ mod simulation_setup;
 mod stats;
 mod stepping;
 
+pub use body::Body;
 pub use effects::{Effects, Ground, PinRegion};
 pub use sim_error::SimError;
 pub use simulation::Simulation;

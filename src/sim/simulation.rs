@@ -2,7 +2,7 @@
 
 use super::{EnergyBreakdown, FrameStats, SimulationSettings};
 use crate::assembly::SparseHessian;
-use crate::energy::{Elasticity, ElementField, EnergyTerm, Inertia};
+use crate::energy::{BodyElasticity, ElementField, EnergyTerm, Inertia};
 use crate::integrator::TimeIntegrator;
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::Mesh;
@@ -22,8 +22,8 @@ pub struct Simulation<const D: usize> {
     pub(super) settings: SimulationSettings,
     /// The kinetic part of the incremental potential (its prediction is the integrator's).
     pub(super) inertia: Inertia<D>,
-    /// The strain energy: always present.
-    pub(super) elasticity: Elasticity<D>,
+    /// The strain energy of every body: always present.
+    pub(super) elasticity: BodyElasticity<D>,
     /// The potential terms of the scene's effects (gravity, ground, ...), in order.
     pub(super) effect_terms: Vec<Box<dyn EnergyTerm<D>>>,
     pub(super) integrator: Box<dyn TimeIntegrator<D>>,

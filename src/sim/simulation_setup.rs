@@ -6,9 +6,9 @@
 //! The integrator gets the initial acceleration `a_0 = -M^{-1} grad U(x_0)`
 //! here (Newmark needs it; the other schemes ignore it).
 
-use super::{Effects, SimError, Simulation, SimulationSettings};
+use super::{Body, Effects, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
-use crate::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
+use crate::energy::{BodyElasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use crate::material::Material;
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::Mesh;
@@ -25,7 +25,7 @@ fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
 /// `a_0 = -M^{-1} grad U(x_0)` on free vertices, zero on pinned ones: the
 /// acceleration of the initial state under every potential term.
 fn initial_acceleration<const D: usize>(
-    elasticity: &Elasticity<D>,
+    elasticity: &dyn EnergyTerm<D>,
     effect_terms: &[Box<dyn EnergyTerm<D>>],
     masses: &[f64],
     free_index: &[Option<usize>],
@@ -58,11 +58,36 @@ impl<const D: usize> Simulation<D> {
         settings: SimulationSettings,
         initial_velocity: Vector<D>,
     ) -> Result<Self, SimError> {
-        if !(density > 0.0 && density.is_finite()) {
-            return Err(invalid(
-                "density",
-                format!("must be positive and finite, got {density}"),
-            ));
+        let body = Body {
+            mesh,
+            material,
+            density,
+            velocity: initial_velocity,
+            pinned: None,
+        };
+        Self::with_bodies(vec![body], effects, settings)
+    }
+
+    /// Builds a simulation of several bodies: their meshes are concatenated
+    /// (vertices and elements in body order) into the simulation's mesh;
+    /// each has its material, density, initial velocity and pinned region,
+    /// and all share the effects (which pin vertices of any body).
+    pub fn with_bodies(
+        bodies: Vec<Body<D>>,
+        effects: Effects<D>,
+        settings: SimulationSettings,
+    ) -> Result<Self, SimError> {
+        if bodies.is_empty() {
+            return Err(invalid("bodies", "a simulation needs at least one body"));
+        }
+        for body in &bodies {
+            let density = body.density;
+            if !(density > 0.0 && density.is_finite()) {
+                return Err(invalid(
+                    "density",
+                    format!("must be positive and finite, got {density}"),
+                ));
+            }
         }
         if !(settings.dt > 0.0 && settings.dt.is_finite()) {
             return Err(invalid(
@@ -87,19 +112,65 @@ impl<const D: usize> Simulation<D> {
                 format!("must be positive and finite, got {step}"),
             ));
         }
-        let mesh = Arc::new(mesh);
-        let masses = mesh.lumped_masses(density);
-        let positions = mesh.rest_positions().to_vec();
-        let pinned = |x: &Vector<D>| {
-            effects
-                .pinned
-                .is_some_and(|r| (0..D).all(|k| x[k] >= r.min[k] && x[k] <= r.max[k]))
+        let inside = |r: &super::PinRegion<D>, x: &Vector<D>| {
+            (0..D).all(|k| x[k] >= r.min[k] && x[k] <= r.max[k])
+        };
+        // Per vertex: its body's index; masses and rest positions in body order.
+        let mut owner = Vec::new();
+        let mut masses = Vec::new();
+        let mut positions = Vec::new();
+        let mut simplices = Vec::new();
+        for (b, body) in bodies.iter().enumerate() {
+            let offset = positions.len();
+            if let Some(region) = &body.pinned
+                && !body.mesh.rest_positions().iter().any(|x| inside(region, x))
+            {
+                return Err(invalid(
+                    "pinned",
+                    format!("the pinned region of body {b} holds no vertex of it"),
+                ));
+            }
+            owner.extend(std::iter::repeat_n(b, body.mesh.vertex_count()));
+            masses.extend(body.mesh.lumped_masses(body.density));
+            positions.extend_from_slice(body.mesh.rest_positions());
+            simplices.extend(
+                body.mesh
+                    .simplices()
+                    .map(|s| s.iter().map(|v| v + offset).collect::<Vec<_>>()),
+            );
+        }
+        let pins: Vec<Option<super::PinRegion<D>>> = bodies.iter().map(|b| b.pinned).collect();
+        let body_velocities: Vec<Vector<D>> = bodies.iter().map(|b| b.velocity).collect();
+        let (mesh, elasticity) = if bodies.len() == 1 {
+            let body = bodies.into_iter().next().expect("one body");
+            let mesh = Arc::new(body.mesh);
+            let elasticity = BodyElasticity::single(mesh.clone(), body.material);
+            (mesh, elasticity)
+        } else {
+            let mesh = Arc::new(Mesh::new(positions.clone(), simplices).map_err(|e| {
+                SimError::SetupFailure {
+                    reason: e.to_string(),
+                }
+            })?);
+            let parts = bodies
+                .iter()
+                .map(|b| (Arc::new(b.mesh.clone()), b.material))
+                .collect();
+            let elasticity = BodyElasticity::bodies(parts).map_err(|e| SimError::SetupFailure {
+                reason: e.to_string(),
+            })?;
+            (mesh, elasticity)
+        };
+        let pinned = |v: usize, x: &Vector<D>| {
+            effects.pinned.is_some_and(|r| inside(&r, x))
+                || pins[owner[v]].is_some_and(|r| inside(&r, x))
         };
         let mut free_count = 0;
         let free_index: Vec<Option<usize>> = positions
             .iter()
-            .map(|x| {
-                (!pinned(x)).then(|| {
+            .enumerate()
+            .map(|(v, x)| {
+                (!pinned(v, x)).then(|| {
                     free_count += 1;
                     free_count - 1
                 })
@@ -116,9 +187,10 @@ impl<const D: usize> Simulation<D> {
         }
         let velocities: Vec<Vector<D>> = free_index
             .iter()
-            .map(|f| {
+            .enumerate()
+            .map(|(v, f)| {
                 if f.is_some() {
-                    initial_velocity
+                    body_velocities[owner[v]]
                 } else {
                     Vector::<D>::zeros()
                 }
@@ -178,7 +250,6 @@ impl<const D: usize> Simulation<D> {
             SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SetupFailure {
                 reason: e.to_string(),
             })?;
-        let elasticity = Elasticity::new(mesh.clone(), material);
         let mut integrator = settings.integrator.build(positions.len());
         integrator.set_initial_acceleration(&initial_acceleration(
             &elasticity,

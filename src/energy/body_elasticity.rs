@@ -1,0 +1,161 @@
+//! The strain energy of a scene of one or several bodies, each of its own
+//! material: one [`Elasticity`] per body over the body's own mesh, placed at
+//! the body's vertex and element offsets in the scene's mesh.
+//!
+//! The scene's mesh is the bodies' meshes one after the other (vertices and
+//! elements in body order, each simplex's vertex order kept), so body `b`
+//! owns the contiguous vertices `V_b` and elements `E_b` and
+//! `U(x) = sum_b U_b(x[V_b])`. Values, gradients and step caps are the
+//! bodies' own on their slices. For the Hessian, each body's element
+//! Hessians are computed into a Hessian of the body alone and copied into
+//! the scene Hessian's element slots `E_b` (the same local vertex order), which
+//! are then gathered once. A single body is its `Elasticity` over the whole
+//! mesh, unchanged.
+//!
+//! Why not a per-element material index inside [`Elasticity`]: it would mean
+//! touching every loop of that term (its value, gradient, Hessian, step cap,
+//! fields), where this keeps the term as it is and costs a second gather
+//! per body and Newton iteration only when there are several bodies.
+
+use super::{Elasticity, ElementField, EnergyTerm};
+use crate::assembly::{FactorisationError, SparseHessian};
+use crate::material::Material;
+use crate::math::Vector;
+use crate::mesh::Mesh;
+use std::ops::Range;
+use std::sync::Arc;
+
+/// One body's strain energy and where it sits in the scene's mesh.
+struct BodyPart<const D: usize> {
+    elasticity: Elasticity<D>,
+    vertices: Range<usize>,
+    elements: Range<usize>,
+    /// The body's own Hessian, to compute its element Hessians into (none
+    /// for a single body, which writes into the scene's Hessian directly).
+    scratch: Option<std::sync::Mutex<SparseHessian<D>>>,
+}
+
+/// The strain energy of every body of a scene, named `elastic`.
+pub struct BodyElasticity<const D: usize> {
+    parts: Vec<BodyPart<D>>,
+}
+
+impl<const D: usize> BodyElasticity<D> {
+    /// One body: `material` over all of `mesh`.
+    pub fn single(mesh: Arc<Mesh<D>>, material: Material) -> Self {
+        let (vertices, elements) = (0..mesh.vertex_count(), 0..mesh.element_count());
+        Self {
+            parts: vec![BodyPart {
+                elasticity: Elasticity::new(mesh, material),
+                vertices,
+                elements,
+                scratch: None,
+            }],
+        }
+    }
+
+    /// Several bodies, each its mesh (with its own vertex numbering) and
+    /// material, in the order their meshes are concatenated in the scene's.
+    pub fn bodies(bodies: Vec<(Arc<Mesh<D>>, Material)>) -> Result<Self, FactorisationError> {
+        if bodies.len() == 1 {
+            let (mesh, material) = bodies.into_iter().next().expect("one body");
+            return Ok(Self::single(mesh, material));
+        }
+        let (mut vertex, mut element) = (0, 0);
+        let mut parts = Vec::with_capacity(bodies.len());
+        for (mesh, material) in bodies {
+            let vertices = vertex..vertex + mesh.vertex_count();
+            let elements = element..element + mesh.element_count();
+            (vertex, element) = (vertices.end, elements.end);
+            let scratch = SparseHessian::new(&mesh, (0..mesh.vertex_count()).map(Some).collect())?;
+            parts.push(BodyPart {
+                elasticity: Elasticity::new(mesh, material),
+                vertices,
+                elements,
+                scratch: Some(std::sync::Mutex::new(scratch)),
+            });
+        }
+        Ok(Self { parts })
+    }
+
+    /// The material of each body, in order.
+    pub fn materials(&self) -> Vec<&Material> {
+        self.parts.iter().map(|p| p.elasticity.material()).collect()
+    }
+
+    /// Minimum volume ratio `J = det F` over all elements.
+    pub fn min_volume_ratio(&self, x: &[Vector<D>]) -> f64 {
+        self.parts
+            .iter()
+            .map(|p| p.elasticity.min_volume_ratio(&x[p.vertices.clone()]))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// A per-element scalar at positions `x`, in the scene's element order.
+    pub fn element_field(&self, x: &[Vector<D>], field: ElementField) -> Vec<f64> {
+        let mut out = Vec::new();
+        for p in &self.parts {
+            out.extend(p.elasticity.element_field(&x[p.vertices.clone()], field));
+        }
+        out
+    }
+}
+
+impl<const D: usize> EnergyTerm<D> for BodyElasticity<D> {
+    fn name(&self) -> &'static str {
+        "elastic"
+    }
+
+    fn value(&self, x: &[Vector<D>]) -> f64 {
+        self.parts
+            .iter()
+            .map(|p| p.elasticity.value(&x[p.vertices.clone()]))
+            .sum()
+    }
+
+    fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
+        for p in &self.parts {
+            let v = p.vertices.clone();
+            p.elasticity
+                .add_gradient(&x[v.clone()], scale, &mut gradient[v]);
+        }
+    }
+
+    fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
+        let [part] = &self.parts[..] else {
+            let block = (D * (D + 1)).pow(2);
+            for p in &self.parts {
+                let scratch = p
+                    .scratch
+                    .as_ref()
+                    .expect("several bodies have scratch Hessians");
+                let mut scratch = scratch.lock().expect("the scratch Hessian is not poisoned");
+                scratch.clear();
+                p.elasticity
+                    .add_hessian(&x[p.vertices.clone()], scale, &mut scratch);
+                let slots = p.elements.start * block..p.elements.end * block;
+                hessian.element_buffer_mut()[slots].copy_from_slice(scratch.element_buffer_mut());
+            }
+            hessian.gather_element_buffer();
+            return;
+        };
+        part.elasticity.add_hessian(x, scale, hessian);
+    }
+
+    fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+        self.parts
+            .iter()
+            .map(|p| {
+                let v = p.vertices.clone();
+                p.elasticity.max_step(&x[v.clone()], &dx[v])
+            })
+            .fold(1.0, f64::min)
+    }
+
+    fn begin_step(&mut self, x: &[Vector<D>], v: &[Vector<D>]) {
+        for p in &mut self.parts {
+            let r = p.vertices.clone();
+            p.elasticity.begin_step(&x[r.clone()], &v[r]);
+        }
+    }
+}
