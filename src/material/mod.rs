@@ -40,8 +40,9 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     fn first_piola(&self, f: &Matrix<D>) -> Matrix<D>;
     /// `dP/dF`, as `D x D` blocks: `result[k][l] = dP/dF_kl`.
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D>;
-    /// Whether the energy is infinite for `det F <= 0` (the line search must
-    /// then keep every element uninverted).
+    /// Whether the energy is infinite for `det F <= 0`. For information only:
+    /// the line search keeps every element uninverted whatever the material
+    /// (`Elasticity::max_step`).
     fn forbids_inversion(&self) -> bool;
     /// The out-of-plane Cauchy stress `sigma_zz` of a 2D body read as plane
     /// strain. Every 2D energy here is its 3D form restricted to
