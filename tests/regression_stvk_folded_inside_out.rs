@@ -11,7 +11,9 @@ fn volume_ratios_and_stalls(dir: &std::path::Path) -> (Vec<f64>, usize) {
     let (j, stalled) = (column("min_volume_ratio"), column("stalled_steps"));
     (
         rows.iter().map(|r| r[j].parse().unwrap()).collect(),
-        rows.iter().map(|r| r[stalled].parse::<usize>().unwrap()).sum(),
+        rows.iter()
+            .map(|r| r[stalled].parse::<usize>().unwrap())
+            .sum(),
     )
 }
 
@@ -20,7 +22,15 @@ fn the_default_scene_keeps_every_element_uninverted() {
     let tmp = tempfile::tempdir().unwrap();
     let o = elasto(
         tmp.path(),
-        &["run", "--no-render", "--frames", "400", "-q", "-o", "default"],
+        &[
+            "run",
+            "--no-render",
+            "--frames",
+            "400",
+            "-q",
+            "-o",
+            "default",
+        ],
     );
     assert_code(&o, 0);
     let (ratios, stalled) = volume_ratios_and_stalls(&tmp.path().join("default"));
@@ -65,7 +75,10 @@ fn a_thrown_soft_stvk_box_keeps_every_element_uninverted() {
     for (frame, j) in ratios.iter().enumerate() {
         assert!(*j > 0.0, "frame {frame}: min volume ratio {j}");
     }
-    assert!(stalled > 0, "the flattened StVK box should report stalled steps");
+    assert!(
+        stalled > 0,
+        "the flattened StVK box should report stalled steps"
+    );
     assert!(
         stderr(&o).contains(&format!("{stalled} stalled in the line search")),
         "{}",
