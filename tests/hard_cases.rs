@@ -110,11 +110,11 @@ fn every_hard_case_stays_sound_with_every_material() {
             let frame = |row: &Vec<String>| row[column("frame")].clone();
             for row in &rows {
                 let gap = value(row, "min_height");
-                if !(gap > 0.0) {
+                if gap.is_nan() || gap <= 0.0 {
                     failures.push(format!("{name}: frame {}: ground gap {gap}", frame(row)));
                 }
                 let j = value(row, "min_volume_ratio");
-                if !(j > 0.0) {
+                if j.is_nan() || j <= 0.0 {
                     failures.push(format!("{name}: frame {}: J = {j}", frame(row)));
                 }
             }
