@@ -8,7 +8,9 @@ mod support;
 
 use elasto::assembly::SparseHessian;
 use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
-use elasto::material::{HyperelasticMaterial, Material, NeoHookean, StVenantKirchhoff};
+use elasto::material::{
+    FixedCorotated, HyperelasticMaterial, Material, NeoHookean, StVenantKirchhoff, StableNeoHookean,
+};
 use elasto::math::{DenseMatrix, Matrix, Vector, project_to_psd};
 use elasto::mesh::Mesh;
 use std::sync::Arc;
@@ -23,16 +25,131 @@ both_dimensions! {
     element_hessian_matches_finite_differences => element_hessian_2d, element_hessian_3d;
     assembled_hessian_is_the_sum_of_projected_element_hessians => assembled_hessian_2d, assembled_hessian_3d;
     inertia_gravity_barrier_match_finite_differences => effect_terms_2d, effect_terms_3d;
+    robust_materials_match_finite_differences_compressed_and_inverted => robust_materials_2d, robust_materials_3d;
+    every_material_is_stress_free_at_rest => rest_stability_2d, rest_stability_3d;
+    stable_neo_hookean_energy_is_finite_when_inverted => stable_neo_hookean_inverted_2d, stable_neo_hookean_inverted_3d;
 }
 
-fn materials() -> [(&'static str, Material); 2] {
-    [("stvk", stvk()), ("neo-hookean", neo_hookean())]
+fn materials() -> [(&'static str, Material); 4] {
+    let lame = lame();
+    [
+        ("stvk", stvk()),
+        ("neo-hookean", neo_hookean()),
+        (
+            "stable-neo-hookean",
+            Material::StableNeoHookean(StableNeoHookean { lame }),
+        ),
+        (
+            "fixed-corotated",
+            Material::FixedCorotated(FixedCorotated { lame }),
+        ),
+    ]
 }
 
 fn for_each_material<const D: usize>(mut check: impl FnMut(&str, &dyn HyperelasticMaterial<D>)) {
     let lame = lame();
     check("stvk", &StVenantKirchhoff { lame });
     check("neo-hookean", &NeoHookean { lame });
+    check("stable-neo-hookean", &StableNeoHookean { lame });
+    check("fixed-corotated", &FixedCorotated { lame });
+}
+
+/// `P` against central differences of `Psi`, and `dP/dF` against central
+/// differences of `P`, at one `F`; returns the larger relative error.
+fn finite_difference_error<const D: usize>(
+    material: &dyn HyperelasticMaterial<D>,
+    f: &Matrix<D>,
+) -> f64 {
+    let p = material.first_piola(f);
+    let dp = material.first_piola_derivative(f);
+    let dp_scale = dp.iter().flatten().map(|m| m.amax()).fold(0.0, f64::max);
+    let h = 1e-6;
+    let mut worst = 0.0f64;
+    for k in 0..D {
+        for l in 0..D {
+            let mut plus = *f;
+            plus[(k, l)] += h;
+            let mut minus = *f;
+            minus[(k, l)] -= h;
+            let fd = (material.energy_density(&plus) - material.energy_density(&minus)) / (2.0 * h);
+            worst = worst.max(relative_error(p[(k, l)], fd, p.amax()));
+            let fd: Matrix<D> =
+                (material.first_piola(&plus) - material.first_piola(&minus)) / (2.0 * h);
+            worst = worst.max((dp[k][l] - fd).amax() / dp_scale);
+        }
+    }
+    worst
+}
+
+/// The robust materials away from rest: strongly compressed (`J` about 0.1 in 3D, 0.2 in 2D)
+/// and, for both (their energies are defined there), inverted `F`
+/// (one row reflected). Fixed corotated is checked away from degenerate
+/// singular values (`sigma_i + sigma_j = 0`), where `dR` is singular.
+fn robust_materials_match_finite_differences_compressed_and_inverted<const D: usize>() {
+    let mut rng = Rng::new(7);
+    let lame = lame();
+    let materials: [(&str, &dyn HyperelasticMaterial<D>); 2] = [
+        ("stable-neo-hookean", &StableNeoHookean { lame }),
+        ("fixed-corotated", &FixedCorotated { lame }),
+    ];
+    for (name, material) in materials {
+        for case in 0..10 {
+            let mut f = random_f::<D>(&mut rng, 0.3);
+            let kind = if case % 2 == 0 {
+                // Compressed: every column shortened to 45%.
+                f *= 0.45;
+                "compressed"
+            } else {
+                f.row_mut(0).neg_mut();
+                "inverted"
+            };
+            let j = elasto::math::determinant(&f);
+            assert!(
+                if kind == "inverted" {
+                    j < 0.0
+                } else {
+                    j > 0.0 && j < 0.35
+                },
+                "{kind} F with J = {j}"
+            );
+            let err = finite_difference_error(material, &f);
+            assert!(
+                err < TOLERANCE,
+                "{name} {D}D, {kind} F (J = {j}): rel. error {err:e}"
+            );
+        }
+    }
+}
+
+/// Rest stability: `P(I) = 0` (and `Psi(I) = 0`) for every material.
+fn every_material_is_stress_free_at_rest<const D: usize>() {
+    for_each_material::<D>(|name, material| {
+        let identity = Matrix::<D>::identity();
+        let p = material.first_piola(&identity);
+        assert!(p.amax() < 1e-12, "{name} {D}D: P(I) = {p}");
+        let psi = material.energy_density(&identity);
+        assert!(psi.abs() < 1e-12, "{name} {D}D: Psi(I) = {psi}");
+        assert!(
+            material.plane_strain_normal_stress(&identity).abs() < 1e-12,
+            "{name}: sigma_zz(I)"
+        );
+    });
+}
+
+/// Stable Neo-Hookean is defined for inverted `F`, with a finite energy
+/// larger than at rest and a stress that pushes the element back.
+fn stable_neo_hookean_energy_is_finite_when_inverted<const D: usize>() {
+    let material = StableNeoHookean { lame: lame() };
+    let mut f = Matrix::<D>::identity();
+    f[(0, 0)] = -0.5;
+    let psi = HyperelasticMaterial::<D>::energy_density(&material, &f);
+    assert!(psi.is_finite() && psi > 0.0, "{D}D: Psi = {psi}");
+    let p = HyperelasticMaterial::<D>::first_piola(&material, &f);
+    assert!(p.iter().all(|v| v.is_finite()), "{D}D: P = {p}");
+    // dPsi/dF_00 < 0: growing F_00 back towards +1 lowers the energy.
+    assert!(p[(0, 0)] < 0.0, "{D}D: P = {p}");
+    let zero = Matrix::<D>::zeros();
+    assert!(HyperelasticMaterial::<D>::energy_density(&material, &zero).is_finite());
 }
 
 fn stress_is_the_energy_derivative<const D: usize>() {

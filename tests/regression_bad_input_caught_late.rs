@@ -305,7 +305,10 @@ fn messages_name_file_key_and_reason_in_the_scene_files_words() {
         ("solver=[1]", &["`solver`", "expected a table"]),
         (
             "material.model=3",
-            &["`material.model`", "`stvk` or `neo-hookean`"],
+            &[
+                "`material.model`",
+                "`stvk`, `neo-hookean`, `stable-neo-hookean` or `fixed-corotated`",
+            ],
         ),
         (
             "time.frames=1.5",

@@ -1,6 +1,6 @@
 //! Hard cases stay numerically stable: fast impacts, huge time steps, stiff and
 //! nearly incompressible materials, extreme compression. In every case no
-//! vertex may reach the ground, no Neo-Hookean element may invert, no number
+//! vertex may reach the ground, no element may invert (whatever the material), no number
 //! may become NaN, and backward Euler may not create energy.
 
 mod support;
@@ -77,7 +77,8 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
         let stats = sim
             .step()
             .unwrap_or_else(|e| panic!("step {step} failed: {e}"));
-        unconverged += usize::from(!stats.solver.converged);
+        // A stalled step (StVK held at the inversion floor) is not at the cap.
+        unconverged += usize::from(stats.solver.hit_iteration_cap());
         assert!(
             sim.positions()
                 .iter()
@@ -104,17 +105,21 @@ fn assert_stable(
         gap > 0.0,
         "{name}: a vertex reached the ground (gap {gap:e})"
     );
-    if neo_hookean {
-        assert!(j > 0.0, "{name}: an element inverted (J = {j:e})");
-    }
+    // Every material: the line search's inversion guard holds for all (issue 12).
+    assert!(j > 0.0, "{name}: an element inverted (J = {j:e})");
     assert!(
         energy_ratio <= 1.0 + 1e-9,
         "{name}: energy grew by a factor {energy_ratio}"
     );
-    assert_eq!(
-        unconverged, 0,
-        "{name}: {unconverged} steps hit the iteration cap"
-    );
+    // St. Venant-Kirchhoff crushed flat is held at the inversion floor and
+    // cannot converge there (README, "StVK's limits"): its steps stall or
+    // hit the cap, which the run reports. Neo-Hookean must converge.
+    if neo_hookean {
+        assert_eq!(
+            unconverged, 0,
+            "{name}: {unconverged} steps hit the iteration cap"
+        );
+    }
 }
 
 macro_rules! both_dimensions {
@@ -146,7 +151,7 @@ both_dimensions! {
     // A soft body under a thousand g: flattened against the ground to J ~ 1e-3
     // (projected Newton then converges linearly: about 110 iterations).
     extreme_compression_2d, extreme_compression_3d => Case { young: 1e3, gravity: 9810.0, steps: 60, ..Default::default() };
-    // St. Venant-Kirchhoff squashed hard: it may invert (its energy allows it) but must stay finite and above ground.
+    // St. Venant-Kirchhoff squashed hard: its energy allows inversion, the line search does not (steps may stall).
     extreme_compression_stvk_2d, extreme_compression_stvk_3d => Case { neo_hookean: false, gravity: 981.0, steps: 60, ..Default::default() };
 }
 

@@ -32,6 +32,12 @@ use std::sync::Arc;
 /// The fraction of the distance to inversion a single line-search step may cover at most.
 pub const INVERSION_STEP_FRACTION: f64 = 0.9;
 
+/// The smallest volume ratio `J` a line-search step may bring an element to
+/// (when it starts above twice that): far above the round-off of `det F`,
+/// far below any compression a material with an inversion barrier reaches
+/// under sane loads.
+pub const MIN_VOLUME_RATIO: f64 = 1e-9;
+
 /// Elements per rayon task: small meshes stay on one thread.
 const ELEMENTS_PER_TASK: usize = 256;
 
@@ -270,24 +276,62 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
         hessian.gather_element_buffer();
     }
 
-    /// For a material that forbids inversion, the first `t` where some
-    /// `det(D_s + t dD_s)` (a polynomial of degree `D` in `t`) reaches zero,
-    /// times `INVERSION_STEP_FRACTION` (0.9); otherwise 1.
+    /// The largest step fraction that keeps every element uninverted,
+    /// whatever the material: for each element the first `t` where
+    /// `J(t) = det((D_s + t dD_s) D_m^{-1})` (a polynomial of degree `D` in
+    /// `t`) falls to the floor `MIN_VOLUME_RATIO`, times
+    /// `INVERSION_STEP_FRACTION` (0.9); 1 if none does in `(0, 1]`.
+    ///
+    /// The floor is there for round-off: a material with finite energy at
+    /// `J <= 0` (St. Venant-Kirchhoff) keeps pushing a crushed element
+    /// towards flat, each capped step covers 90% of what is left, and without
+    /// a floor `J` would reach the round-off of the determinant within a few
+    /// dozen iterations and cross zero. The cap is checked by evaluating
+    /// `J` at it directly (halved until `J` stays above the floor). An
+    /// element that is at the floor already (round-off puts it a hair below)
+    /// may not shrink at all: the cap is the first `t` where `J(t) = J(0)`
+    /// again, 0 if it shrinks at once.
+    /// Where such a material cannot decrease its energy without flattening
+    /// further, the cap is 0 and the solver reports the step as stalled.
     fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
-        let forbids =
-            with_material!(&self.material, m => HyperelasticMaterial::<D>::forbids_inversion(m));
-        if !forbids {
-            return 1.0;
-        }
         let caps: Vec<f64> = (0..self.mesh.element_count())
             .into_par_iter()
             .with_min_len(ELEMENTS_PER_TASK)
             .map(|e| {
                 let simplex = self.mesh.simplex(e);
+                let dm_inv = self.mesh.rest_elements()[e].dm_inv;
                 let ds = edge_matrix(x, simplex);
                 let dds = edge_matrix(dx, simplex);
-                let volume = Polynomial::interpolate(D, |t| determinant(&(ds + dds * t)));
-                first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t)
+                let ratio = |t: f64| determinant(&((ds + dds * t) * dm_inv));
+                let j0 = ratio(0.0);
+                if !(j0 > 0.0) {
+                    // Already flat or inverted (not reachable by a guarded
+                    // step): only keep it from crossing zero again.
+                    let volume = Polynomial::interpolate(D, ratio);
+                    return first_root_in(&volume, 1.0)
+                        .map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+                }
+                let mut volume = Polynomial::interpolate(D, ratio);
+                if !(j0 > MIN_VOLUME_RATIO) {
+                    // At the floor: the element may not shrink any further.
+                    // `(J(t) - J(0)) / t` must stay positive.
+                    volume.coefficients.remove(0);
+                    if !(volume.coefficients[0] > 0.0) {
+                        return 0.0;
+                    }
+                    return first_root_in(&volume, 1.0)
+                        .map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+                }
+                volume.coefficients[0] -= MIN_VOLUME_RATIO;
+                let mut cap =
+                    first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+                // Round-off in the coefficients: check `J` at the cap itself.
+                let mut halvings = 0;
+                while !(ratio(cap) > MIN_VOLUME_RATIO) && halvings < 60 {
+                    cap *= 0.5;
+                    halvings += 1;
+                }
+                if halvings == 60 { 0.0 } else { cap }
             })
             .collect();
         caps.into_iter().fold(1.0, f64::min)

@@ -21,13 +21,17 @@
 //! are not a Lame pair fits as well, and [`Material::parameters`] reports
 //! whatever constants a material has.
 
+mod fixed_corotated;
 mod lame_parameters;
 mod neo_hookean;
 mod st_venant_kirchhoff;
+mod stable_neo_hookean;
 
+pub use fixed_corotated::FixedCorotated;
 pub use lame_parameters::{LameParameters, YoungPoisson};
 pub use neo_hookean::NeoHookean;
 pub use st_venant_kirchhoff::StVenantKirchhoff;
+pub use stable_neo_hookean::StableNeoHookean;
 
 use crate::math::{Matrix, StressDerivative};
 use serde::{Deserialize, Serialize};
@@ -40,8 +44,9 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     fn first_piola(&self, f: &Matrix<D>) -> Matrix<D>;
     /// `dP/dF`, as `D x D` blocks: `result[k][l] = dP/dF_kl`.
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D>;
-    /// Whether the energy is infinite for `det F <= 0` (the line search must
-    /// then keep every element uninverted).
+    /// Whether the energy is infinite for `det F <= 0`. For information only:
+    /// the line search keeps every element uninverted whatever the material
+    /// (`Elasticity::max_step`).
     fn forbids_inversion(&self) -> bool;
     /// The out-of-plane Cauchy stress `sigma_zz` of a 2D body read as plane
     /// strain. Every 2D energy here is its 3D form restricted to
@@ -57,6 +62,43 @@ fn unit<const D: usize>(k: usize, l: usize) -> Matrix<D> {
     m
 }
 
+/// The cofactor matrix `cof F = dJ/dF` (`= J F^{-T}` where `F` is
+/// invertible), defined for every `F`. In 3D its columns are
+/// `f_1 x f_2, f_2 x f_0, f_0 x f_1` for the columns `f_i` of `F`.
+fn cofactor<const D: usize>(f: &Matrix<D>) -> Matrix<D> {
+    match D {
+        1 => Matrix::<D>::from_element(1.0),
+        2 => Matrix::<D>::from_fn(|i, j| {
+            let sign = if (i + j) % 2 == 0 { 1.0 } else { -1.0 };
+            sign * f[(1 - i, 1 - j)]
+        }),
+        3 => Matrix::<D>::from_fn(|i, j| {
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            f[(i1, j1)] * f[(i2, j2)] - f[(i2, j1)] * f[(i1, j2)]
+        }),
+        _ => unimplemented!("cofactor of a {D} x {D} matrix"),
+    }
+}
+
+/// The differential of the cofactor, `d(cof F)[dF]`: linear in `dF` (in 2D
+/// the cofactor itself is linear, `cof(dF)`; in 3D each entry is a 2 x 2
+/// minor, so its differential is the sum of two minors mixing `F` and `dF`).
+fn cofactor_differential<const D: usize>(f: &Matrix<D>, df: &Matrix<D>) -> Matrix<D> {
+    match D {
+        1 => Matrix::<D>::zeros(),
+        2 => cofactor(df),
+        3 => Matrix::<D>::from_fn(|i, j| {
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            f[(i1, j1)] * df[(i2, j2)] + df[(i1, j1)] * f[(i2, j2)]
+                - f[(i2, j1)] * df[(i1, j2)]
+                - df[(i2, j1)] * f[(i1, j2)]
+        }),
+        _ => unimplemented!("cofactor differential of a {D} x {D} matrix"),
+    }
+}
+
 /// The materials a scene can choose, as one closed set.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Material {
@@ -64,6 +106,10 @@ pub enum Material {
     StVenantKirchhoff(StVenantKirchhoff),
     /// Neo-Hookean.
     NeoHookean(NeoHookean),
+    /// Stable Neo-Hookean.
+    StableNeoHookean(StableNeoHookean),
+    /// Fixed corotated.
+    FixedCorotated(FixedCorotated),
 }
 
 /// A material model by its scene-file name (`material.model`).
@@ -75,18 +121,28 @@ pub enum MaterialModel {
     StVenantKirchhoff,
     /// `neo-hookean`: Neo-Hookean.
     NeoHookean,
+    /// `stable-neo-hookean`: Stable Neo-Hookean (Smith, de Goes, Kim 2018).
+    StableNeoHookean,
+    /// `fixed-corotated`: fixed corotated (Stomakhin et al. 2012).
+    FixedCorotated,
 }
 
 impl MaterialModel {
     /// Every model, in the order the README lists them.
-    pub const ALL: [MaterialModel; 2] =
-        [MaterialModel::StVenantKirchhoff, MaterialModel::NeoHookean];
+    pub const ALL: [MaterialModel; 4] = [
+        MaterialModel::StVenantKirchhoff,
+        MaterialModel::NeoHookean,
+        MaterialModel::StableNeoHookean,
+        MaterialModel::FixedCorotated,
+    ];
 
     /// The scene-file name.
     pub fn name(self) -> &'static str {
         match self {
             MaterialModel::StVenantKirchhoff => "stvk",
             MaterialModel::NeoHookean => "neo-hookean",
+            MaterialModel::StableNeoHookean => "stable-neo-hookean",
+            MaterialModel::FixedCorotated => "fixed-corotated",
         }
     }
 
@@ -97,6 +153,10 @@ impl MaterialModel {
                 Material::StVenantKirchhoff(StVenantKirchhoff { lame })
             }
             MaterialModel::NeoHookean => Material::NeoHookean(NeoHookean { lame }),
+            MaterialModel::StableNeoHookean => {
+                Material::StableNeoHookean(StableNeoHookean { lame })
+            }
+            MaterialModel::FixedCorotated => Material::FixedCorotated(FixedCorotated { lame }),
         }
     }
 }
@@ -107,6 +167,8 @@ impl Material {
         match self {
             Material::StVenantKirchhoff(_) => MaterialModel::StVenantKirchhoff,
             Material::NeoHookean(_) => MaterialModel::NeoHookean,
+            Material::StableNeoHookean(_) => MaterialModel::StableNeoHookean,
+            Material::FixedCorotated(_) => MaterialModel::FixedCorotated,
         }
     }
 
@@ -122,7 +184,9 @@ impl Material {
     pub fn parameters(&self) -> Vec<(&'static str, f64)> {
         match self {
             Material::StVenantKirchhoff(StVenantKirchhoff { lame })
-            | Material::NeoHookean(NeoHookean { lame }) => {
+            | Material::NeoHookean(NeoHookean { lame })
+            | Material::StableNeoHookean(StableNeoHookean { lame })
+            | Material::FixedCorotated(FixedCorotated { lame }) => {
                 vec![("mu", lame.mu), ("lambda", lame.lambda)]
             }
         }
@@ -136,6 +200,8 @@ macro_rules! with_material {
         match $material {
             $crate::material::Material::StVenantKirchhoff($m) => $body,
             $crate::material::Material::NeoHookean($m) => $body,
+            $crate::material::Material::StableNeoHookean($m) => $body,
+            $crate::material::Material::FixedCorotated($m) => $body,
         }
     };
 }

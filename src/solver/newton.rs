@@ -8,7 +8,7 @@
 //!
 //! The line search starts at `t = min(1, t_max)`, where `t_max`
 //! is the largest step every term allows (no vertex reaches the ground, no
-//! Neo-Hookean element inverts), and halves `t` until the Armijo condition
+//! element inverts, whatever the material), and halves `t` until the Armijo condition
 //! `E(x + t dx) <= E(x) + c t g.dx` holds (`c = 1e-4`). Energy values carry
 //! round-off of order `eps |E|`, so the test allows that much slack; without it
 //! a converging solve could stall a few ulps short of the tolerance.
@@ -72,7 +72,9 @@ pub fn newton<const D: usize>(
         let slope: f64 = gradient.iter().zip(&direction).map(|(g, d)| g.dot(d)).sum();
         let mut t = objective.max_step(x, &direction);
         let mut accepted = false;
-        for _ in 0..=MAX_BACKTRACKS {
+        // A zero cap (an element held at the inversion floor) leaves no step.
+        let backtracks = if t > 0.0 { MAX_BACKTRACKS + 1 } else { 0 };
+        for _ in 0..backtracks {
             for ((xt, xi), di) in trial.iter_mut().zip(x.iter()).zip(&direction) {
                 *xt = xi + di * t;
             }
@@ -96,7 +98,8 @@ pub fn newton<const D: usize>(
         if !accepted {
             // No decrease is possible along a descent direction before the
             // tolerance was met: the line search stalled (round-off at the
-            // minimum, or a feasibility cap that leaves no room). Stop without
+            // minimum, or a feasibility cap that leaves no room, e.g. an
+            // element that would have to flatten further). Stop without
             // moving and report it.
             stats.stalled = true;
             break;

@@ -1,0 +1,108 @@
+//! Fixed corotated (Stomakhin et al. 2012): `Psi = mu |F - R|^2 + lambda/2 (J - 1)^2`, `R` the rotation of the polar decomposition `F = R S`.
+//!
+//! `R = U V^T` from the rotation-variant SVD `F = U Sigma V^T` (`U`, `V`
+//! rotations; the last singular value carries the sign of `J`), so
+//! `|F - R|^2 = sum_i (sigma_i - 1)^2` and, with `cof F = dJ/dF`,
+//!
+//! ```text
+//! P  = 2 mu (F - R) + lambda (J - 1) cof F
+//! dP = 2 mu (dF - dR) + lambda (cof F : dF) cof F + lambda (J - 1) d(cof F)[dF]
+//! dR = U W V^T,  W_ij = (M_ij - M_ji) / (sigma_i + sigma_j),  M = U^T dF V
+//! ```
+//!
+//! (`W` skew; from `F = R S` with `S` symmetric). `dR` is singular where two
+//! signed singular values sum to zero (a flat or inverted element); the sum is
+//! kept away from zero there. The energy is finite for every `F`; the element
+//! Hessian's projection onto the PSD cone (in `energy::elasticity`) is the
+//! projection this material needs.
+
+use super::{HyperelasticMaterial, LameParameters, cofactor, cofactor_differential, unit};
+use crate::math::{Matrix, StressDerivative, Vector, determinant};
+
+/// The smallest `|sigma_i + sigma_j|` used in `dR`.
+const MIN_SINGULAR_SUM: f64 = 1e-12;
+
+/// Fixed corotated elasticity.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FixedCorotated {
+    /// Lame parameters.
+    pub lame: LameParameters,
+}
+
+/// The rotation-variant SVD `F = U diag(sigma) V^T` with `det U = det V = 1`.
+fn rotation_svd<const D: usize>(f: &Matrix<D>) -> (Matrix<D>, Vector<D>, Matrix<D>) {
+    // nalgebra's SVD needs dimension bounds a generic `const D` cannot name:
+    // decompose a dynamic copy.
+    let svd = nalgebra::DMatrix::from_column_slice(D, D, f.as_slice()).svd(true, true);
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        unreachable!("both factors were requested")
+    };
+    let mut u = Matrix::<D>::from_fn(|i, j| u[(i, j)]);
+    let mut v = Matrix::<D>::from_fn(|i, j| v_t[(j, i)]);
+    let mut sigma = Vector::<D>::from_fn(|i, _| svd.singular_values[i]);
+    // Singular values come sorted, largest first: the sign goes to the last.
+    if determinant(&u) < 0.0 {
+        u.column_mut(D - 1).neg_mut();
+        sigma[D - 1] = -sigma[D - 1];
+    }
+    if determinant(&v) < 0.0 {
+        v.column_mut(D - 1).neg_mut();
+        sigma[D - 1] = -sigma[D - 1];
+    }
+    (u, sigma, v)
+}
+
+impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
+    fn energy_density(&self, f: &Matrix<D>) -> f64 {
+        let LameParameters { mu, lambda } = self.lame;
+        let (_, sigma, _) = rotation_svd(f);
+        let j = determinant(f);
+        mu * sigma.iter().map(|s| (s - 1.0).powi(2)).sum::<f64>() + 0.5 * lambda * (j - 1.0).powi(2)
+    }
+
+    fn first_piola(&self, f: &Matrix<D>) -> Matrix<D> {
+        let LameParameters { mu, lambda } = self.lame;
+        let (u, _, v) = rotation_svd(f);
+        let j = determinant(f);
+        (f - u * v.transpose()) * (2.0 * mu) + cofactor(f) * (lambda * (j - 1.0))
+    }
+
+    fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
+        let LameParameters { mu, lambda } = self.lame;
+        let (u, sigma, v) = rotation_svd(f);
+        let j = determinant(f);
+        let cof = cofactor(f);
+        std::array::from_fn(|k| {
+            std::array::from_fn(|l| {
+                let df = unit::<D>(k, l);
+                let m = u.transpose() * df * v;
+                let w = Matrix::<D>::from_fn(|i, n| {
+                    if i == n {
+                        return 0.0;
+                    }
+                    let sum = sigma[i] + sigma[n];
+                    let sum = if sum.abs() < MIN_SINGULAR_SUM {
+                        MIN_SINGULAR_SUM.copysign(sum)
+                    } else {
+                        sum
+                    };
+                    (m[(i, n)] - m[(n, i)]) / sum
+                });
+                let dr = u * w * v.transpose();
+                (df - dr) * (2.0 * mu)
+                    + cof * (lambda * cof[(k, l)])
+                    + cofactor_differential(f, &df) * (lambda * (j - 1.0))
+            })
+        })
+    }
+
+    fn forbids_inversion(&self) -> bool {
+        false
+    }
+
+    /// With `F = diag(F_2D, 1)`, `R = diag(R_2D, 1)` and `(cof F)_zz = J`:
+    /// `P_zz = lambda (J - 1) J` and `sigma_zz = P_zz / J = lambda (J - 1)`.
+    fn plane_strain_normal_stress(&self, f: &Matrix<D>) -> f64 {
+        self.lame.lambda * (determinant(f) - 1.0)
+    }
+}
