@@ -296,7 +296,15 @@ mod tests {
         for name in names("mesh.generator") {
             assert!(accepts::<Generator>(&name), "{name}");
         }
-        assert_eq!(names("material.model"), ["stvk", "neo-hookean"]);
+        assert_eq!(
+            names("material.model"),
+            [
+                "stvk",
+                "neo-hookean",
+                "stable-neo-hookean",
+                "fixed-corotated"
+            ]
+        );
         for name in names("material.model") {
             assert!(accepts::<MaterialModel>(&name), "{name}");
         }

@@ -244,7 +244,7 @@ impl Default for MaterialConfig {
 }
 
 impl MaterialConfig {
-    /// The model's scene-file name (`stvk` or `neo-hookean`).
+    /// The model's scene-file name (`stvk`, `neo-hookean`, `stable-neo-hookean`, ...).
     pub fn model_name(&self) -> &'static str {
         self.material.model().name()
     }
