@@ -107,3 +107,32 @@ fn check_applies_overrides() {
     assert!(text.contains("12 vertices, 12 elements"), "{text}");
     assert!(text.contains("4 substeps"), "{text}");
 }
+
+/// `check` prints the initial energy of each term the scene has, from the
+/// terms themselves: no barrier without a ground.
+#[test]
+fn check_prints_the_initial_energy_of_each_term() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto(tmp.path(), &["check", "report-drop-2d"]);
+    assert_code(&o, 0);
+    // Mass 1 at height 10.5 under g = 1: gravity 10.5; at rest and undeformed.
+    assert!(
+        stdout(&o).contains(
+            "  energy at t = 0 kinetic = 0.000000e0, elastic = 0.000000e0, \
+             gravity = 1.050000e1, barrier = 0.000000e0, total = 1.050000e1\n"
+        ),
+        "{}",
+        stdout(&o)
+    );
+    let o = elasto(tmp.path(), &["check", "hanging-bar-2d"]);
+    assert_code(&o, 0);
+    let line = stdout(&o)
+        .lines()
+        .find(|l| l.starts_with("  energy at t = 0"))
+        .unwrap()
+        .to_owned();
+    assert!(
+        line.contains("gravity = ") && !line.contains("barrier"),
+        "{line}"
+    );
+}

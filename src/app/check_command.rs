@@ -15,23 +15,35 @@ pub fn check(args: &CheckArgs) -> Result<String, AppError> {
         source: &source,
         overrides: &overrides,
     };
-    let barrier = match &scene {
-        Scene::Two(c) => barrier_stiffness(c, input)?,
-        Scene::Three(c) => barrier_stiffness(c, input)?,
+    let setup = match &scene {
+        Scene::Two(c) => set_up(c, input)?,
+        Scene::Three(c) => set_up(c, input)?,
     };
-    Ok(summary(&source, &scene, barrier))
+    Ok(summary(&source, &scene, &setup))
+}
+
+/// What building the simulation tells: the barrier stiffness in use and the
+/// initial energies, by term.
+struct Setup {
+    barrier: Option<f64>,
+    energies: Vec<(&'static str, f64)>,
 }
 
 /// Builds the mesh and the simulation (no stepping) so that every setup error
-/// shows here, and reports the barrier stiffness in use.
-fn barrier_stiffness<const D: usize>(
-    config: &SceneConfig<D>,
-    input: SceneInput,
-) -> Result<Option<f64>, AppError> {
-    Ok(build_simulation(config, input)?.barrier_stiffness())
+/// shows here, and reads the barrier stiffness and the initial energies.
+fn set_up<const D: usize>(config: &SceneConfig<D>, input: SceneInput) -> Result<Setup, AppError> {
+    let sim = build_simulation(config, input)?;
+    let energy = sim.energies();
+    let mut energies: Vec<(&'static str, f64)> = energy.entries().collect();
+    energies.push(("total", energy.total()));
+    Ok(Setup {
+        barrier: sim.barrier_stiffness(),
+        energies,
+    })
 }
 
-fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String {
+fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
+    let barrier = setup.barrier;
     let mut s = String::new();
     let time = scene.time();
     let solver = scene.solver();
@@ -79,6 +91,12 @@ fn summary(source: &SceneSource, scene: &Scene, barrier: Option<f64>) -> String 
             effects.join(", ")
         }
     );
+    let energies: Vec<String> = setup
+        .energies
+        .iter()
+        .map(|(name, value)| format!("{name} = {value:.6e}"))
+        .collect();
+    let _ = writeln!(s, "  energy at t = 0 {}", energies.join(", "));
     if let Some(ground) = scene.ground() {
         let _ = writeln!(
             s,
