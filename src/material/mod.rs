@@ -14,8 +14,9 @@
 //! 2. In this file: one arm in [`Material`], one in [`MaterialModel`] (its
 //!    scene name), and one in each of the `match`es below and in
 //!    `with_material!` (the static dispatch the elasticity term uses).
-//! 3. A finite-difference check in `tests/derivatives.rs` (its
-//!    `all_materials` list).
+//! 3. An entry in the `materials()` list of `tests/derivatives.rs`, which
+//!    checks `P` and `dP/dF` (and the element gradient and Hessian) against
+//!    central finite differences in 2D and 3D.
 //!
 //! The trait asks for no particular parameters: a material whose constants
 //! are not a Lame pair fits as well, and [`Material::parameters`] reports
