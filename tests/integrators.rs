@@ -7,12 +7,12 @@ mod common;
 
 use elasto::energy::{Elasticity, EnergyTerm};
 use elasto::integrator::IntegratorKind;
-use elasto::material::{LameParameters, Material, StVenantKirchhoff, YoungPoisson};
 use elasto::math::{DenseMatrix, Vector, Vector2};
 use elasto::mesh::Mesh;
 use elasto::sim::{Effects, Ground, PinRegion, Simulation, SimulationSettings};
 use elasto::solver::SolverSettings;
 use std::sync::Arc;
+use support::report_drop;
 
 both_dimensions! {
     free_fall_follows_the_parabola => free_fall_2d, free_fall_3d;
@@ -316,31 +316,7 @@ fn free_fall_follows_the_parabola<const D: usize>() {
 #[test]
 fn the_report_example_runs_with_every_integrator() {
     for kind in IntegratorKind::ALL {
-        let mesh = Mesh::axis_aligned_box(Vector2::new(0.0, 10.0), Vector2::new(1.0, 11.0), [5, 5])
-            .unwrap();
-        let lame: LameParameters = YoungPoisson {
-            young: 300.0,
-            poisson: 0.3,
-        }
-        .into();
-        let effects = Effects {
-            gravity: Some(Vector2::new(0.0, -1.0)),
-            ground: Some(Ground {
-                height: 0.0,
-                activation_distance: 0.1,
-                stiffness: None,
-            }),
-            pinned: None,
-        };
-        let mut sim = Simulation::new(
-            mesh,
-            Material::StVenantKirchhoff(StVenantKirchhoff { lame }),
-            1.0,
-            effects,
-            settings(kind, 1.0 / 300.0, 1e-4),
-            Vector2::zeros(),
-        )
-        .unwrap();
+        let mut sim = report_drop(10.0, 0.1, settings(kind, 1.0 / 300.0, 1e-4));
         let mut min_gap = f64::INFINITY;
         let mut min_volume_ratio = f64::INFINITY;
         for _ in 0..3000 {

@@ -6,48 +6,18 @@
 
 mod support;
 
-use elasto::material::{LameParameters, Material, StVenantKirchhoff, YoungPoisson};
-use elasto::math::Vector2;
-use elasto::mesh::Mesh;
-use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
+use elasto::sim::SimulationSettings;
+use support::report_drop;
 
 #[test]
 fn the_box_bounces_without_touching_the_ground_or_gaining_height() {
     let release_height = 10.0;
     let a = 0.1;
-    let mesh = Mesh::axis_aligned_box(
-        Vector2::new(0.0, release_height),
-        Vector2::new(1.0, release_height + 1.0),
-        [5, 5],
-    )
-    .unwrap();
-    let lame: LameParameters = YoungPoisson {
-        young: 300.0,
-        poisson: 0.3,
-    }
-    .into();
-    let effects = Effects {
-        gravity: Some(Vector2::new(0.0, -1.0)),
-        ground: Some(Ground {
-            height: 0.0,
-            activation_distance: a,
-            stiffness: None,
-        }),
-        pinned: None,
-    };
     let settings = SimulationSettings {
         dt: 1.0 / 300.0,
         ..Default::default()
     };
-    let mut sim = Simulation::new(
-        mesh,
-        Material::StVenantKirchhoff(StVenantKirchhoff { lame }),
-        1.0,
-        effects,
-        settings,
-        Vector2::zeros(),
-    )
-    .unwrap();
+    let mut sim = report_drop(release_height, a, settings);
     let initial_com = sim.frame_stats().centre_of_mass.y;
 
     let mut min_gap = f64::INFINITY;

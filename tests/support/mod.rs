@@ -16,8 +16,9 @@ macro_rules! both_dimensions {
 }
 
 use elasto::material::{LameParameters, Material, NeoHookean, StVenantKirchhoff, YoungPoisson};
-use elasto::math::{Matrix, Vector};
+use elasto::math::{Matrix, Vector, Vector2};
 use elasto::mesh::Mesh;
+use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
 
 /// A tiny deterministic generator (xorshift), so tests need no extra crate.
 pub struct Rng(u64);
@@ -49,6 +50,42 @@ pub fn stvk() -> Material {
 
 pub fn neo_hookean() -> Material {
     Material::NeoHookean(NeoHookean { lame: lame() })
+}
+
+/// The report's example: a 1 x 1 St. Venant-Kirchhoff box (E = 300,
+/// nu = 0.3, density 1) of 5 x 5 cells released at rest with its bottom
+/// `release_height` above the ground at 0, under gravity 1 downwards, with
+/// the ground barrier of width `a` and the default stiffness.
+pub fn report_drop(release_height: f64, a: f64, settings: SimulationSettings) -> Simulation<2> {
+    let mesh = Mesh::axis_aligned_box(
+        Vector2::new(0.0, release_height),
+        Vector2::new(1.0, release_height + 1.0),
+        [5, 5],
+    )
+    .unwrap();
+    let lame: LameParameters = YoungPoisson {
+        young: 300.0,
+        poisson: 0.3,
+    }
+    .into();
+    let effects = Effects {
+        gravity: Some(Vector2::new(0.0, -1.0)),
+        ground: Some(Ground {
+            height: 0.0,
+            activation_distance: a,
+            stiffness: None,
+        }),
+        pinned: None,
+    };
+    Simulation::new(
+        mesh,
+        Material::StVenantKirchhoff(StVenantKirchhoff { lame }),
+        1.0,
+        effects,
+        settings,
+        Vector2::zeros(),
+    )
+    .unwrap()
 }
 
 /// A unit box with 2 cells per axis.
