@@ -14,9 +14,11 @@
 //! `M (x - x_pred) / dt^2 = -grad U(x)` is exactly backward Euler. Pinned
 //! vertices are removed from the unknowns and stay at their rest positions.
 //!
-//! Files: `simulation.rs` (the state and its measures), `simulation_setup.rs`
-//! (building it and its list of terms from the scene's effects),
-//! `stepping.rs` (one step, one frame), `stats.rs` (what a step reports).
+//! Files: `simulation.rs` (the state and its measures), `body.rs` (one body
+//! of a scene), `simulation_setup.rs` (joining the bodies' meshes and
+//! building the list of terms from the scene's effects), `effects.rs`,
+//! `stepping.rs` (one step, one frame), `stats.rs` (what a step reports),
+//! `sim_error.rs`.
 
 mod body;
 mod effects;
