@@ -363,7 +363,7 @@ pub struct SceneConfig<const D: usize> {
     /// The scene's name, which names the default output folder `out/NAME`
     /// (default: the file stem, or the built-in scene's name).
     pub name: String,
-    /// The bodies, at least one (default: one [`BodyConfig::default`]).
+    /// The bodies, at least one (default: one default body).
     /// They share gravity and the ground and do not collide with each other.
     pub bodies: Vec<BodyConfig<D>>,
     /// Frames and time step.
