@@ -19,7 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["solver"],
     &["integrator"],
     &["sim"],
-    &["output", "render", "compare"],
+    &["output", "render", "compare", "study"],
     &["scene"],
     &["app"],
 ];
