@@ -37,3 +37,4 @@ pub mod study;
 // Scene files and the application layer.
 pub mod app;
 pub mod scene;
+pub mod sweep;

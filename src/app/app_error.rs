@@ -12,6 +12,9 @@ pub enum AppError {
     /// The scene could not be found, parsed or validated.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A `--vary` list or a sweep file is malformed.
+    #[error(transparent)]
+    Sweep(#[from] crate::sweep::SweepError),
     /// A flag's value is out of range.
     #[error("`{flag}`: {reason}")]
     Flag {
@@ -73,6 +76,26 @@ pub enum AppError {
         /// Frames compared.
         total: usize,
     },
+    /// The reference run of a study failed, so no run can be measured.
+    #[error("the study's reference run failed: {reason}")]
+    StudyReference {
+        /// Why.
+        reason: String,
+    },
+    /// Some runs of a study failed (the others are measured and written).
+    #[error("{failed} of {total} study runs failed (see study.csv)")]
+    StudyRunsFailed {
+        /// Runs that failed.
+        failed: usize,
+        /// Runs in the study.
+        total: usize,
+    },
+    /// The work-precision plot could not be drawn.
+    #[error("cannot draw study.png: {reason}")]
+    Plot {
+        /// Why.
+        reason: String,
+    },
 }
 
 impl AppError {
@@ -84,6 +107,7 @@ impl AppError {
             AppError::Setup { source, .. } if !source.is_bad_input() => 1,
             AppError::Scene(_)
             | AppError::Flag { .. }
+            | AppError::Sweep(_)
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
             AppError::Compare(CompareError::Write { .. }) => 1,
@@ -98,7 +122,10 @@ impl AppError {
             AppError::Simulation { .. }
             | AppError::Unhealthy { .. }
             | AppError::Render(_)
-            | AppError::FramesDiffer { .. } => 1,
+            | AppError::FramesDiffer { .. }
+            | AppError::StudyReference { .. }
+            | AppError::StudyRunsFailed { .. }
+            | AppError::Plot { .. } => 1,
         }
     }
 }

@@ -23,6 +23,8 @@ pub enum Command {
     Check(CheckArgs),
     /// Compare rendered frames with golden images (FLIP); exit 1 if any frame fails.
     Compare(CompareArgs),
+    /// Measure error against wall time over varied settings (a work-precision study).
+    Study(StudyArgs),
 }
 
 /// Arguments of `elasto run`.
@@ -64,6 +66,46 @@ pub struct RunArgs {
     /// Video to write besides the PNG frames: auto = APNG, plus MP4 when ffmpeg is available.
     #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
     pub video: VideoChoice,
+}
+
+/// Arguments of `elasto study`.
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    /// Scene file or built-in scene name.
+    pub scene: String,
+    /// Vary a scene key over values: `KEY=V1,V2,...`, `KEY=linspace(A,B,N)` or
+    /// `KEY=logspace(A,B,N)` (repeatable; all combinations are run).
+    #[arg(long, value_name = "KEY=VALUES")]
+    pub vary: Vec<String>,
+    /// Pair the `--vary` lists value by value instead of running every combination.
+    #[arg(long)]
+    pub zip: bool,
+    /// A series: overrides `KEY=VALUE;KEY=VALUE...` applied to every point of the
+    /// `--vary` grid (repeatable; default: one series, the scene as it is).
+    #[arg(long, value_name = "KEY=VALUE;...")]
+    pub series: Vec<String>,
+    /// Change the reference run (default: the finest step / 4, `solver.tolerance`
+    /// 1e-8, Newton, BDF2), e.g. `--reference mesh.cells=[40,40]` (repeatable).
+    #[arg(long, value_name = "KEY=VALUE")]
+    pub reference: Vec<String>,
+    /// Override a scene key in every run and the reference (repeatable; the value is TOML).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Number of output frames, replacing `time.frames` / `time.duration`.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub frames: Option<i64>,
+    /// Time every run this many times and report the median wall time (1 to 100).
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    pub repeat: usize,
+    /// Output folder (default: out/studies/SCENE_NAME).
+    #[arg(long, short, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write into an existing non-empty output folder, replacing the study's files there.
+    #[arg(long)]
+    pub force: bool,
+    /// Print only the observed orders and errors (no progress lines).
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Arguments of `elasto check`.

@@ -49,7 +49,7 @@ pub fn work_precision_plot(
             .configure_mesh()
             .x_desc("wall time (ms)")
             .y_desc(error_axis)
-            .x_label_formatter(&|x| format!("{x:.3e}"))
+            .x_label_formatter(&|x| tick(*x))
             .y_label_formatter(&|y| format!("{y:.0e}"))
             .label_style(("sans-serif", 13))
             .draw()
@@ -62,7 +62,8 @@ pub fn work_precision_plot(
             }
         }
         for (i, name) in series_names.iter().enumerate() {
-            let colour = Palette99::pick(i).to_rgba();
+            let [r, g, b] = SERIES_COLOURS[i % SERIES_COLOURS.len()];
+            let colour = RGBColor(r, g, b).to_rgba();
             let mut members: Vec<&PlotPoint> = shown
                 .iter()
                 .copied()
@@ -101,6 +102,31 @@ pub fn work_precision_plot(
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(pixels)
+}
+
+/// Strong colours that read on white (Tableau 10), one per series, in order.
+const SERIES_COLOURS: [[u8; 3]; 10] = [
+    [31, 119, 180],
+    [214, 39, 40],
+    [44, 160, 44],
+    [255, 127, 14],
+    [148, 103, 189],
+    [140, 86, 75],
+    [227, 119, 194],
+    [127, 127, 127],
+    [188, 189, 34],
+    [23, 190, 207],
+];
+
+/// A tick label of a wall time: at most three significant digits, no exponent.
+fn tick(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 1.0 {
+        format!("{}", (x * 10.0).round() / 10.0)
+    } else {
+        format!("{}", (x * 1000.0).round() / 1000.0)
+    }
 }
 
 /// Axis ranges a little wider than the points, in whole decades' reach
@@ -156,11 +182,11 @@ mod tests {
     #[test]
     fn the_plot_draws_coloured_series_and_labels() {
         let points = [
-            point("newton, backward-euler", "substeps=5", 10.0, 1e-1),
-            point("newton, backward-euler", "substeps=20", 40.0, 2.5e-2),
-            point("newton, bdf2", "substeps=5", 11.0, 1e-2),
-            point("newton, bdf2", "substeps=20", 45.0, 6e-4),
-            point("newton, bdf2", "failed", f64::NAN, 1.0),
+            point("newton / backward-euler", "substeps=5", 10.0, 1e-1),
+            point("newton / backward-euler", "substeps=20", 40.0, 2.5e-2),
+            point("newton / bdf2", "substeps=5", 11.0, 1e-2),
+            point("newton / bdf2", "substeps=20", 45.0, 6e-4),
+            point("newton / bdf2", "failed", f64::NAN, 1.0),
         ];
         let (w, h) = (640, 480);
         let pixels = work_precision_plot(&points, "study", "trajectory error", (w, h)).unwrap();

@@ -20,7 +20,7 @@ pub struct StudyRow {
     pub run: String,
     /// The run's value of each varied key, as TOML text (in the study's key order).
     pub values: Vec<String>,
-    /// The series: solver method and time integrator, e.g. `newton, bdf2`.
+    /// The series: solver method and time integrator, e.g. `newton / bdf2`.
     pub series: String,
     /// The time step, in seconds.
     pub dt: f64,
@@ -127,11 +127,11 @@ impl StudyTable {
             let _ = write!(text, " {key} |");
         }
         text.push_str(
-            " dt (s) | wall ms | its/step | trajectory error | energy error | status |\n",
+            " dt (s) | wall ms | its/step | unconverged steps | trajectory error | energy error | status |\n",
         );
         text.push_str("|---|---|");
         text.push_str(&"---|".repeat(self.keys.len()));
-        text.push_str("--:|--:|--:|--:|--:|---|\n");
+        text.push_str("--:|--:|--:|--:|--:|--:|---|\n");
         for row in &self.rows {
             let _ = write!(text, "| {} | {} |", row.run, row.series);
             for value in &row.values {
@@ -143,10 +143,11 @@ impl StudyTable {
             };
             let _ = writeln!(
                 text,
-                " {} | {:.0} | {:.1} | {} | {} | {} |",
+                " {} | {:.0} | {:.1} | {} | {} | {} | {} |",
                 short(row.dt),
                 row.wall_ms,
                 row.iterations_per_step(),
+                row.unconverged_steps,
                 trajectory,
                 energy,
                 row.status_text().replace('|', "\\|"),
@@ -194,7 +195,7 @@ mod tests {
         StudyRow {
             run: run.into(),
             values: vec![value.into()],
-            series: "newton, bdf2".into(),
+            series: "newton / bdf2".into(),
             dt: 0.01,
             status: if errors.is_some() {
                 RunStatus::Ok
@@ -230,8 +231,7 @@ mod tests {
         assert_eq!(lines.len(), 3);
         assert!(lines[0].starts_with("run,mesh.velocity,series,dt,status,wall_ms"));
         assert!(
-            lines[1]
-                .starts_with("reference,\"[0, -1]\",\"newton, bdf2\",1e-2,ok,12.400,3,30,3.000")
+            lines[1].starts_with("reference,\"[0, -1]\",newton / bdf2,1e-2,ok,12.400,3,30,3.000")
         );
         assert!(lines[1].ends_with(",vertices,1.25e-1,5e-1,10"));
         assert!(
@@ -240,6 +240,6 @@ mod tests {
         );
         let md = table.markdown();
         assert_eq!(md.lines().count(), 4);
-        assert!(md.contains("| reference | newton, bdf2 | [0, -1] | 1.00e-2 | 12 | 3.0 | 1.25e-1 | 5.00e-1 | ok |"), "{md}");
+        assert!(md.contains("| reference | newton / bdf2 | [0, -1] | 1.00e-2 | 12 | 3.0 | 0 | 1.25e-1 | 5.00e-1 | ok |"), "{md}");
     }
 }
