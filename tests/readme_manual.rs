@@ -62,8 +62,23 @@ fn scene_keys(table: &toml::Table, path: &str, keys: &mut BTreeSet<(String, Stri
 fn every_flag_of_every_command_is_in_the_readme() {
     let tmp = tempfile::tempdir().unwrap();
     let mut flags = BTreeSet::new();
-    for command in ["run", "scenes", "check", "compare"] {
-        let o = elasto(tmp.path(), &[command, "--help"]);
+    // Every subcommand `elasto --help` lists.
+    let help = stdout(&elasto(tmp.path(), &["--help"]));
+    let commands: Vec<String> = help
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next().map(str::to_owned))
+        .filter(|c| c != "help")
+        .collect();
+    assert!(commands.len() >= 5, "{commands:?} from:\n{help}");
+    for command in &commands {
+        assert!(
+            README.contains(&format!("### `elasto {command}")),
+            "no README section for `elasto {command}`"
+        );
+        let o = elasto(tmp.path(), &[command.as_str(), "--help"]);
         assert_code(&o, 0);
         for line in stdout(&o).lines() {
             let line = line.trim_start();

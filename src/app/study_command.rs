@@ -15,6 +15,7 @@
 
 use super::cli::StudyArgs;
 use super::preflight::SceneInput;
+use super::progress::{Progress, ProgressMode};
 use super::{AppError, build_simulation, scene_overrides};
 use crate::output::OutputDir;
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
@@ -147,7 +148,12 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
         args.repeat,
         reference.overrides_text()
     ));
-    let (reference_row, trajectory) = reference.measure(None, 1)?;
+    // A bar per run on a terminal; in logs the line per run is enough.
+    let bar = match ProgressMode::detect(args.quiet) {
+        ProgressMode::Bar => ProgressMode::Bar,
+        _ => ProgressMode::Quiet,
+    };
+    let (reference_row, trajectory) = reference.measure(None, 1, bar)?;
     let trajectory = trajectory.expect("the reference keeps its trajectory");
     if let RunStatus::Failed(reason) = &reference_row.status {
         return Err(AppError::StudyReference {
@@ -165,7 +171,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
     reference_row.run = "reference".into();
     let mut rows = vec![reference_row];
     for (i, run) in runs.iter().enumerate() {
-        let (row, _) = run.measure(Some(&trajectory), args.repeat)?;
+        let (row, _) = run.measure(Some(&trajectory), args.repeat, bar)?;
         let mut row = run.row_values(row, &keys);
         row.run = i.to_string();
         say(format!(
@@ -425,10 +431,11 @@ impl PlannedRun {
         &self,
         reference: Option<&Reference>,
         repeats: usize,
+        progress: ProgressMode,
     ) -> Result<(StudyRow, Option<Reference>), AppError> {
         match &self.scene {
-            Scene::Two(config) => self.measure_scene(config, reference, repeats),
-            Scene::Three(config) => self.measure_scene(config, reference, repeats),
+            Scene::Two(config) => self.measure_scene(config, reference, repeats, progress),
+            Scene::Three(config) => self.measure_scene(config, reference, repeats, progress),
         }
     }
 
@@ -437,6 +444,7 @@ impl PlannedRun {
         config: &SceneConfig<D>,
         reference: Option<&Reference>,
         repeats: usize,
+        progress: ProgressMode,
     ) -> Result<(StudyRow, Option<Reference>), AppError> {
         let input = SceneInput {
             source: &self.source,
@@ -445,7 +453,7 @@ impl PlannedRun {
         let mut times = Vec::with_capacity(repeats);
         let mut first: Option<(StudyRow, Option<Reference>)> = None;
         for _ in 0..repeats {
-            let (row, time, recorded) = simulate(config, input, reference)?;
+            let (row, time, recorded) = simulate(config, input, reference, progress)?;
             times.push(time);
             let failed = row.status != RunStatus::Ok;
             if first.is_none() {
@@ -482,7 +490,9 @@ fn simulate<const D: usize>(
     config: &SceneConfig<D>,
     input: SceneInput,
     reference: Option<&Reference>,
+    progress: ProgressMode,
 ) -> Result<(StudyRow, Duration, Option<Reference>), AppError> {
+    let mut progress = Progress::start(progress, "study run", config.time.frames);
     let started = Instant::now();
     let mut sim = build_simulation(config, input)?;
     let mut wall = started.elapsed();
@@ -513,6 +523,7 @@ fn simulate<const D: usize>(
             match stats {
                 Ok(stats) => stats,
                 Err(error) => {
+                    progress.finish();
                     row.status = RunStatus::Failed(format!("frame {frame}: {error}"));
                     return Ok((row, wall, None));
                 }
@@ -531,7 +542,9 @@ fn simulate<const D: usize>(
         if let Some(tracker) = &mut tracker {
             tracker.observe(sim.positions(), &stats.centre_of_mass, energy);
         }
+        progress.update(frame + 1, || format!("t = {:.3} s", stats.time));
     }
+    progress.finish();
     row.errors = match tracker {
         Some(tracker) => tracker.finish(),
         None => Some(RunErrors {
