@@ -124,6 +124,8 @@ fn a_study_writes_its_files_and_measures_the_orders_of_the_integrators() {
     for row in &rows[1..] {
         assert_eq!(row[status], "ok");
         assert_eq!(row[repeats], "3");
+        let cpu: f64 = row[column(&header, "cpu_ms")].parse().unwrap();
+        assert!(cpu > 0.0, "{row:?}");
         assert_eq!(row[kind], "vertices");
         let e: f64 = row[error].parse().unwrap();
         assert!(e > 0.0 && e < 0.5, "error {e} of {row:?}");
@@ -194,6 +196,9 @@ fn a_series_of_the_reports_method_and_a_mesh_study_by_centre_of_mass() {
             "time.integrator=backward-euler",
             "--series",
             "solver.method=gradient-descent;solver.max_iterations=100000",
+            // A series that fixes the varied key: one run, not two.
+            "--series",
+            "time.integrator=newmark;mesh.cells=[16,2]",
             "--reference",
             "mesh.cells=[32,4]",
             "-o",
@@ -203,7 +208,7 @@ fn a_series_of_the_reports_method_and_a_mesh_study_by_centre_of_mass() {
     );
     assert_code(&out, 0);
     let (header, rows) = study_csv(&dir.path().join("s"));
-    assert_eq!(rows.len(), 1 + 4);
+    assert_eq!(rows.len(), 1 + 2 + 2 + 1, "{rows:?}");
     let (series, kind, error, iterations) = (
         column(&header, "series"),
         column(&header, "error_kind"),
@@ -211,6 +216,12 @@ fn a_series_of_the_reports_method_and_a_mesh_study_by_centre_of_mass() {
         column(&header, "iterations_per_step"),
     );
     assert_eq!(rows[0][kind], "vertices", "the reference against itself");
+    let fixed: Vec<_> = rows
+        .iter()
+        .filter(|r| r[series] == "newton / newmark")
+        .collect();
+    assert_eq!(fixed.len(), 1);
+    assert_eq!(fixed[0][column(&header, "mesh.cells")], "[16, 2]");
     for row in &rows[1..] {
         assert_eq!(row[kind], "centre_of_mass", "{row:?}");
         assert!(row[error].parse::<f64>().unwrap() > 0.0);

@@ -84,14 +84,20 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
             }
         }
     }
-    let mut runs = Vec::new();
+    // A key a series sets wins over the grid's value, so a series can fix
+    // the step (one run instead of one per point); runs that resolve to the
+    // same scene as an earlier run are run once.
+    let mut runs: Vec<PlannedRun> = Vec::new();
     for series_overrides in &series {
         for point in &points {
-            runs.push(PlannedRun::new(
+            let run = PlannedRun::new(
                 &source,
-                [common.clone(), series_overrides.clone(), point.overrides()?].concat(),
+                [common.clone(), point.overrides()?, series_overrides.clone()].concat(),
                 point,
-            )?);
+            )?;
+            if !runs.iter().any(|earlier| earlier.resolved == run.resolved) {
+                runs.push(run);
+            }
         }
     }
     let first = &runs[0];
@@ -148,11 +154,8 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
         args.repeat,
         reference.overrides_text()
     ));
-    // A bar per run on a terminal; in logs the line per run is enough.
-    let bar = match ProgressMode::detect(args.quiet) {
-        ProgressMode::Bar => ProgressMode::Bar,
-        _ => ProgressMode::Quiet,
-    };
+    // A bar per run on a terminal, a line at every 10% of a run in logs.
+    let bar = ProgressMode::detect(args.quiet);
     let (reference_row, trajectory) = reference.measure(None, 1, bar)?;
     let trajectory = trajectory.expect("the reference keeps its trajectory");
     if let RunStatus::Failed(reason) = &reference_row.status {
@@ -451,10 +454,15 @@ impl PlannedRun {
             overrides: &self.overrides,
         };
         let mut times = Vec::with_capacity(repeats);
+        let mut cpu_times = Vec::with_capacity(repeats);
         let mut first: Option<(StudyRow, Option<Reference>)> = None;
         for _ in 0..repeats {
+            let cpu_before = process_cpu_time();
             let (row, time, recorded) = simulate(config, input, reference, progress)?;
             times.push(time);
+            if let (Some(before), Some(after)) = (cpu_before, process_cpu_time()) {
+                cpu_times.push(after.saturating_sub(before));
+            }
             let failed = row.status != RunStatus::Ok;
             if first.is_none() {
                 first = Some((row, recorded));
@@ -464,15 +472,52 @@ impl PlannedRun {
             }
         }
         let (mut row, recorded) = first.expect("at least one repetition");
-        times.sort();
-        row.wall_ms = times[times.len() / 2].as_secs_f64() * 1e3;
-        if times.len() % 2 == 0 {
-            let below = times[times.len() / 2 - 1].as_secs_f64() * 1e3;
-            row.wall_ms = 0.5 * (row.wall_ms + below);
-        }
+        row.wall_ms = median_ms(&mut times);
+        row.cpu_ms = if cpu_times.is_empty() {
+            f64::NAN
+        } else {
+            median_ms(&mut cpu_times)
+        };
         row.repeats = times.len();
         Ok((row, recorded))
     }
+}
+
+/// The median of `times`, in milliseconds (the mean of the middle two for
+/// an even count).
+fn median_ms(times: &mut [Duration]) -> f64 {
+    times.sort();
+    let n = times.len();
+    let middle = times[n / 2].as_secs_f64() * 1e3;
+    if n % 2 == 0 {
+        0.5 * (middle + times[n / 2 - 1].as_secs_f64() * 1e3)
+    } else {
+        middle
+    }
+}
+
+/// CPU time of this process so far, all threads, user and system
+/// (`None` where the platform does not say).
+#[cfg(unix)]
+fn process_cpu_time() -> Option<Duration> {
+    let mut usage = std::mem::MaybeUninit::<libc::rusage>::zeroed();
+    // SAFETY: getrusage writes a whole `rusage` into the pointer it is
+    // given, which points to one; it is read only when the call succeeded.
+    let usage = unsafe {
+        if libc::getrusage(libc::RUSAGE_SELF, usage.as_mut_ptr()) != 0 {
+            return None;
+        }
+        usage.assume_init()
+    };
+    let time = |t: libc::timeval| {
+        Duration::from_secs(t.tv_sec as u64) + Duration::from_micros(t.tv_usec as u64)
+    };
+    Some(time(usage.ru_utime) + time(usage.ru_stime))
+}
+
+#[cfg(not(unix))]
+fn process_cpu_time() -> Option<Duration> {
+    None
 }
 
 fn timing<const D: usize>(config: &SceneConfig<D>) -> Timing {
@@ -506,6 +551,7 @@ fn simulate<const D: usize>(
         dt: config.simulation_settings().dt,
         status: RunStatus::Ok,
         wall_ms: 0.0,
+        cpu_ms: f64::NAN,
         repeats: 1,
         iterations: 0,
         steps: 0,

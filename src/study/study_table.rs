@@ -29,6 +29,10 @@ pub struct StudyRow {
     /// Median wall time over the repeats, in milliseconds (setup and
     /// simulation; no files are written).
     pub wall_ms: f64,
+    /// Median CPU time of the process over the repeats (all threads), in
+    /// milliseconds: steadier than the wall time on a shared machine (NaN
+    /// where the platform does not tell).
+    pub cpu_ms: f64,
     /// How many times the run was timed.
     pub repeats: usize,
     /// Solver iterations over the whole run.
@@ -67,11 +71,12 @@ pub struct StudyTable {
 }
 
 /// The columns of `study.csv` after the varied keys.
-pub const STUDY_COLUMNS: [&str; 13] = [
+pub const STUDY_COLUMNS: [&str; 14] = [
     "series",
     "dt",
     "status",
     "wall_ms",
+    "cpu_ms",
     "repeats",
     "iterations",
     "iterations_per_step",
@@ -104,6 +109,7 @@ impl StudyTable {
                     num(row.dt),
                     row.status_text(),
                     format!("{:.3}", row.wall_ms),
+                    format!("{:.3}", row.cpu_ms),
                     row.repeats.to_string(),
                     row.iterations.to_string(),
                     format!("{:.3}", row.iterations_per_step()),
@@ -127,11 +133,11 @@ impl StudyTable {
             let _ = write!(text, " {key} |");
         }
         text.push_str(
-            " dt (s) | wall ms | its/step | unconverged steps | trajectory error | energy error | status |\n",
+            " dt (s) | wall ms | CPU ms | its/step | unconverged steps | trajectory error | energy error | status |\n",
         );
         text.push_str("|---|---|");
         text.push_str(&"---|".repeat(self.keys.len()));
-        text.push_str("--:|--:|--:|--:|--:|--:|---|\n");
+        text.push_str("--:|--:|--:|--:|--:|--:|--:|---|\n");
         for row in &self.rows {
             let _ = write!(text, "| {} | {} |", row.run, row.series);
             for value in &row.values {
@@ -143,9 +149,10 @@ impl StudyTable {
             };
             let _ = writeln!(
                 text,
-                " {} | {:.0} | {:.1} | {} | {} | {} | {} |",
+                " {} | {:.0} | {:.0} | {:.1} | {} | {} | {} | {} |",
                 short(row.dt),
                 row.wall_ms,
+                row.cpu_ms,
                 row.iterations_per_step(),
                 row.unconverged_steps,
                 trajectory,
@@ -203,6 +210,7 @@ mod tests {
                 RunStatus::Failed("step 3, frame 1: NaN".into())
             },
             wall_ms: 12.4,
+            cpu_ms: 20.0,
             repeats: 3,
             iterations: 30,
             steps: 10,
@@ -231,7 +239,9 @@ mod tests {
         assert_eq!(lines.len(), 3);
         assert!(lines[0].starts_with("run,mesh.velocity,series,dt,status,wall_ms"));
         assert!(
-            lines[1].starts_with("reference,\"[0, -1]\",newton / bdf2,1e-2,ok,12.400,3,30,3.000")
+            lines[1].starts_with(
+                "reference,\"[0, -1]\",newton / bdf2,1e-2,ok,12.400,20.000,3,30,3.000"
+            )
         );
         assert!(lines[1].ends_with(",vertices,1.25e-1,5e-1,10"));
         assert!(
@@ -240,6 +250,6 @@ mod tests {
         );
         let md = table.markdown();
         assert_eq!(md.lines().count(), 4);
-        assert!(md.contains("| reference | newton / bdf2 | [0, -1] | 1.00e-2 | 12 | 3.0 | 0 | 1.25e-1 | 5.00e-1 | ok |"), "{md}");
+        assert!(md.contains("| reference | newton / bdf2 | [0, -1] | 1.00e-2 | 12 | 20 | 3.0 | 0 | 1.25e-1 | 5.00e-1 | ok |"), "{md}");
     }
 }
