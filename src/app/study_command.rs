@@ -489,7 +489,7 @@ fn median_ms(times: &mut [Duration]) -> f64 {
     times.sort();
     let n = times.len();
     let middle = times[n / 2].as_secs_f64() * 1e3;
-    if n % 2 == 0 {
+    if n.is_multiple_of(2) {
         0.5 * (middle + times[n / 2 - 1].as_secs_f64() * 1e3)
     } else {
         middle
