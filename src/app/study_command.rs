@@ -23,7 +23,7 @@ use crate::study::{
     PlotPoint, Reference, RunErrors, RunStatus, StudyRow, StudyTable, observed_order,
     work_precision_plot,
 };
-use crate::sweep::{RunSpec, expand, parse_vary};
+use crate::sweep::{expand, parse_vary};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -76,7 +76,8 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
             .map(|s| parse_series(s))
             .collect::<Result<Vec<_>, _>>()?
     };
-    let mut keys: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+    let vary_keys: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+    let mut keys = vary_keys.clone();
     for overrides in &series {
         for o in overrides {
             if !keys.contains(&o.key()) {
@@ -93,7 +94,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
             let run = PlannedRun::new(
                 &source,
                 [common.clone(), point.overrides()?, series_overrides.clone()].concat(),
-                point,
+                &vary_keys,
             )?;
             if !runs.iter().any(|earlier| earlier.resolved == run.resolved) {
                 runs.push(run);
@@ -116,11 +117,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
     }
     let finest_substeps = runs.iter().map(|r| r.timing.substeps).max().unwrap_or(1);
     let reference_set = reference_overrides(finest_substeps, &args.reference)?;
-    let reference = PlannedRun::new(
-        &source,
-        [common.clone(), reference_set].concat(),
-        &RunSpec::new(0, Vec::new()),
-    )?;
+    let reference = PlannedRun::new(&source, [common.clone(), reference_set].concat(), &[])?;
     if !reference.timing.same_frames(&first.timing) {
         return Err(AppError::Flag {
             flag: args.reference.join(" "),
@@ -178,11 +175,15 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
         let mut row = run.row_values(row, &keys);
         row.run = i.to_string();
         say(format!(
-            "  run {}/{} ({}; {}): {:.0} ms, {}",
+            "  run {}/{} ({}{}): {:.0} ms, {}",
             i + 1,
             runs.len(),
             row.series,
-            run.label,
+            if run.label.is_empty() {
+                String::new()
+            } else {
+                format!("; {}", run.label)
+            },
             row.wall_ms,
             match (&row.status, &row.errors) {
                 (RunStatus::Ok, Some(e)) if row.unconverged_steps + row.stalled_steps > 0 =>
@@ -347,10 +348,12 @@ struct PlannedRun {
 }
 
 impl PlannedRun {
+    /// Validates the scene with `overrides`; its labels show its values of
+    /// the `--vary` keys, as resolved (a series may have fixed one).
     fn new(
         source: &SceneSource,
         overrides: Vec<SceneOverride>,
-        point: &RunSpec,
+        vary_keys: &[String],
     ) -> Result<Self, AppError> {
         let (scene, resolved) = Scene::load_resolved(source, &overrides)?;
         let resolved: toml::Table = resolved.parse().expect("a resolved scene is valid TOML");
@@ -358,34 +361,45 @@ impl PlannedRun {
             Scene::Two(c) => timing(c),
             Scene::Three(c) => timing(c),
         };
-        let short_label = point
-            .values
-            .iter()
-            .filter(|(key, _)| !SERIES_KEYS.contains(&key.as_str()))
-            .map(|(key, value)| {
-                let leaf = key.rsplit('.').next().unwrap_or(key);
-                format!("{leaf}={}", value.label)
-            })
-            .collect::<Vec<_>>()
-            .join(" ");
-        Ok(Self {
+        let mut run = Self {
             source: source.clone(),
             overrides,
             scene,
             resolved,
             timing,
-            label: point.label(),
-            short_label,
-        })
+            label: String::new(),
+            short_label: String::new(),
+        };
+        let values: Vec<(&String, String)> = vary_keys
+            .iter()
+            .map(|key| (key, run.value_of(key)))
+            .collect();
+        run.label = values
+            .iter()
+            .map(|(key, value)| format!("{key}={value}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        run.short_label = values
+            .iter()
+            .filter(|(key, _)| !SERIES_KEYS.contains(&key.as_str()))
+            .map(|(key, value)| {
+                let leaf = key.rsplit('.').next().unwrap_or(key);
+                format!("{leaf}={}", value.replace(' ', ""))
+            })
+            .collect::<Vec<_>>()
+            .join(" ");
+        Ok(run)
     }
 
     /// The flags that made this run, for messages.
     fn flags(&self) -> String {
-        self.overrides
-            .iter()
-            .map(|o| o.flag.clone())
-            .collect::<Vec<_>>()
-            .join(" ")
+        let mut flags: Vec<&str> = Vec::new();
+        for o in &self.overrides {
+            if !flags.contains(&o.flag.as_str()) {
+                flags.push(&o.flag);
+            }
+        }
+        flags.join(" ")
     }
 
     /// The reference's own settings, for the progress line.
