@@ -10,7 +10,7 @@
 //!
 //! The modules form layers, lowest first: `math` → `mesh`, `material` →
 //! `assembly` → `energy` → `solver` → `integrator` → `sim` → `output`,
-//! `render`, `compare` → `scene` → `app`. No module refers to a layer above
+//! `render`, `compare` → `scene` → `sweep` → `app`. No module refers to a layer above
 //! its own; `tests/layering.rs` holds the order and enforces it.
 #![warn(missing_docs)]
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
@@ -36,3 +36,4 @@ pub mod render;
 // Scene files and the application layer.
 pub mod app;
 pub mod scene;
+pub mod sweep;
