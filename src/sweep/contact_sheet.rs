@@ -9,7 +9,7 @@
 //! not rendered) gets a grey tile. There are no gaps, so cell `i` starts at
 //! `(i mod columns · cell_width, ⌊i / columns⌋ · cell_height)`.
 
-use super::label_text::{draw_text, fit_text};
+use super::label_text::{draw_text, fit_text, text_width};
 use image::{Rgba, RgbaImage, imageops};
 use std::path::{Path, PathBuf};
 
@@ -118,13 +118,26 @@ impl TileGrid {
             let line_h = (self.font_px * 5 / 4) as f32;
             let margin = (px / 3.0).max(2.0);
             for (k, line) in lines.iter().enumerate() {
-                let text = fit_text(line, px, cell_w as f32 - 2.0 * margin);
+                let text = fit_label(line, px, cell_w as f32 - 2.0 * margin);
                 let baseline = (y0 + self.tile.1) as f32 + line_h * (k as f32 + 1.0);
                 draw_text(&mut sheet, &text, x0 as f32 + margin, baseline, px, INK);
             }
         }
         sheet
     }
+}
+
+/// A `key.path=value` line that does not fit loses the key's leading
+/// components (`young=300`), then is cut with `..`.
+fn fit_label(line: &str, px: f32, width: f32) -> String {
+    if text_width(line, px) <= width {
+        return line.to_owned();
+    }
+    let shorter = match line.split_once('=') {
+        Some((key, value)) => format!("{}={value}", key.rsplit('.').next().unwrap_or(key)),
+        None => line.to_owned(),
+    };
+    fit_text(&shorter, px, width)
 }
 
 /// The PNG frames of a run folder's `frames/`, in frame order (empty when

@@ -14,16 +14,19 @@
 //! itself or, after sharded runs, by `--collect`.
 
 mod child_run;
+mod collect;
 mod contact_sheet;
 mod label_text;
 mod run_record;
 mod run_summary;
 mod sweep_error;
 mod sweep_file;
+mod sweep_progress;
 mod sweep_table;
 mod vary;
 
 pub use child_run::{ChildOutcome, ChildRun, RUN_LOG_FILE};
+pub use collect::{Collected, SheetOptions, collect};
 pub use contact_sheet::{MAX_COMPARISON_SIZE, MAX_SHEET_SIZE, TileGrid, read_frame, run_frames};
 pub use run_record::{
     RUN_RECORD_FILE, RecordError, RunIdentity, RunRecord, RunStatus, write_atomically,
@@ -31,6 +34,7 @@ pub use run_record::{
 pub use run_summary::RunSummary;
 pub use sweep_error::SweepError;
 pub use sweep_file::{SweepFile, is_sweep_file};
+pub use sweep_progress::{CurrentRun, ProgressStyleChoice, SweepProgress};
 pub use sweep_table::{
     RowStatus, SUMMARY_COLUMNS, SweepDescription, SweepRow, TableError, write_csv, write_json,
 };
