@@ -62,7 +62,7 @@ fn scene_keys(table: &toml::Table, path: &str, keys: &mut BTreeSet<(String, Stri
 fn every_flag_of_every_command_is_in_the_readme() {
     let tmp = tempfile::tempdir().unwrap();
     let mut flags = BTreeSet::new();
-    for command in ["run", "scenes", "check", "compare"] {
+    for command in ["run", "scenes", "check", "compare", "sweep"] {
         let o = elasto(tmp.path(), &[command, "--help"]);
         assert_code(&o, 0);
         for line in stdout(&o).lines() {
