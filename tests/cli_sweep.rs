@@ -635,3 +635,39 @@ fn shards_run_through_gnu_parallel_and_collect_into_the_whole_sweep() {
         ["skipped", "ok", "skipped", "skipped", "skipped", "ok"]
     );
 }
+
+#[test]
+fn a_folder_not_made_by_the_sweep_is_not_written_into() {
+    let tmp = tempfile::tempdir().unwrap();
+    let taken = tmp.path().join("mine/0001_material.young=200");
+    std::fs::create_dir_all(&taken).unwrap();
+    std::fs::write(taken.join("notes.txt"), "my notes").unwrap();
+    let o = elasto(
+        tmp.path(),
+        &[
+            "sweep",
+            "report-drop-2d",
+            "--vary",
+            "material.young=100,200",
+            "--frames",
+            "2",
+            "--no-render",
+            "--out",
+            "mine",
+        ],
+    );
+    assert_code(&o, 2);
+    assert!(
+        stderr(&o).contains("0001_material.young=200 exists and was not made by elasto sweep"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        !tmp.path().join("mine/0000_material.young=100").exists(),
+        "nothing ran"
+    );
+    assert_eq!(
+        std::fs::read_to_string(taken.join("notes.txt")).unwrap(),
+        "my notes"
+    );
+}

@@ -201,9 +201,12 @@ impl SweepPlan {
             .out
             .clone()
             .unwrap_or_else(|| Path::new("out").join("sweeps").join(&name));
+        // --collect reads (and checks) every run, whatever the shard.
         let selected = match args.shard {
-            Some((shard, count)) => (0..runs.len()).filter(|i| i % count == shard).collect(),
-            None => (0..runs.len()).collect(),
+            Some((shard, count)) if !args.collect => {
+                (0..runs.len()).filter(|i| i % count == shard).collect()
+            }
+            _ => (0..runs.len()).collect(),
         };
         Ok(Self {
             name,
