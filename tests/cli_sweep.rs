@@ -74,6 +74,15 @@ fn a_2x2_grid_runs_every_combination_like_elasto_run() {
         ],
     );
     assert_code(&o, 0);
+    // stderr is not a terminal: one plain progress line per finished run.
+    let err = stderr(&o);
+    let lines: Vec<&str> = err.lines().filter(|l| l.contains("runs done")).collect();
+    assert_eq!(lines.len(), 4, "{}", stderr(&o));
+    assert!(
+        lines[3].starts_with("sweep: 4/4 runs done, 0 failed"),
+        "{}",
+        lines[3]
+    );
     let dir = tmp.path().join("grid");
     assert_eq!(
         folders(&dir),
