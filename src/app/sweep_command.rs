@@ -25,7 +25,7 @@ use crate::sweep::{
     RunStatus, SheetOptions, SweepDescription, SweepError, SweepFile, SweepProgress, VaryAxis,
     collect, expand, is_sweep_file, parse_vary,
 };
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::{BTreeSet, VecDeque};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::Duration;
@@ -300,11 +300,11 @@ impl SweepPlan {
                 });
             }
             drop(sender);
-            let mut running: BTreeMap<usize, ()> = BTreeMap::new();
+            let mut running: BTreeSet<usize> = BTreeSet::new();
             loop {
                 match receiver.recv_timeout(Duration::from_millis(250)) {
                     Ok(Event::Started(i)) => {
-                        running.insert(i, ());
+                        running.insert(i);
                     }
                     Ok(Event::Finished(i, outcome)) => {
                         running.remove(&i);
@@ -321,7 +321,7 @@ impl SweepPlan {
                     Err(crossbeam_channel::RecvTimeoutError::Disconnected) => break,
                 }
                 let current: Vec<CurrentRun> = running
-                    .keys()
+                    .iter()
                     .map(|&i| CurrentRun {
                         index: i,
                         frames_done: frames_written(&self.out.join(self.runs[i].folder_name())),
