@@ -21,6 +21,7 @@ const LAYERS: &[&[&str]] = &[
     &["sim"],
     &["output", "render", "compare", "study"],
     &["scene"],
+    &["sweep"],
     &["app"],
 ];
 

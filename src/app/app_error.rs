@@ -5,6 +5,7 @@ use crate::output::OutputError;
 use crate::render::RenderError;
 use crate::scene::SceneError;
 use crate::sim::SimError;
+use crate::sweep::SweepError;
 
 /// Why a command stopped.
 #[derive(Debug, thiserror::Error)]
@@ -12,9 +13,6 @@ pub enum AppError {
     /// The scene could not be found, parsed or validated.
     #[error(transparent)]
     Scene(#[from] SceneError),
-    /// A `--vary` list or a sweep file is malformed.
-    #[error(transparent)]
-    Sweep(#[from] crate::sweep::SweepError),
     /// A flag's value is out of range.
     #[error("`{flag}`: {reason}")]
     Flag {
@@ -68,6 +66,9 @@ pub enum AppError {
     /// Image comparison could not start (missing folders, unreadable images).
     #[error("cannot compare frames")]
     Compare(#[source] CompareError),
+    /// A sweep could not be planned (exit 2) or some of its runs failed (exit 1).
+    #[error(transparent)]
+    Sweep(#[from] SweepError),
     /// Some frames differ from their golden images.
     #[error("{failed} of {total} frames differ from the golden images")]
     FramesDiffer {
@@ -104,10 +105,10 @@ impl AppError {
     /// working (solver, renderer, writing a file, frames that differ).
     pub fn exit_code(&self) -> i32 {
         match self {
+            AppError::Sweep(error) => error.exit_code(),
             AppError::Setup { source, .. } if !source.is_bad_input() => 1,
             AppError::Scene(_)
             | AppError::Flag { .. }
-            | AppError::Sweep(_)
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
             AppError::Compare(CompareError::Write { .. }) => 1,

@@ -23,6 +23,8 @@ pub enum Command {
     Check(CheckArgs),
     /// Compare rendered frames with golden images (FLIP); exit 1 if any frame fails.
     Compare(CompareArgs),
+    /// Run a scene many times with some keys varied: one folder per run, a summary table, a contact sheet.
+    Sweep(SweepArgs),
     /// Measure error against wall time over varied settings (a work-precision study).
     Study(StudyArgs),
 }
@@ -159,6 +161,74 @@ pub struct CompareArgs {
     pub percentile: Option<f64>,
 }
 
+/// Arguments of `elasto sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Scene file or built-in scene name, or a sweep file (TOML with `scene = ...` and `[vary]`).
+    pub target: String,
+    /// A varied key and its values: `KEY=V1,V2,...`, `KEY=linspace(A,B,N)` or `KEY=logspace(A,B,N)` (repeatable; values are TOML, split at commas outside [], {} and quotes).
+    #[arg(long, value_name = "KEY=VALUES", allow_hyphen_values = true)]
+    pub vary: Vec<String>,
+    /// Pair the lists value by value (all the same length) instead of running every combination.
+    #[arg(long)]
+    pub zip: bool,
+    /// Override a scene key in every run, e.g. `--set time.frames=60` (repeatable; the value is TOML).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Sweep folder (default: out/sweeps/NAME).
+    #[arg(long, short, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Runs at a time (default: the machine's cores; the cores are shared between the runs).
+    #[arg(long, short = 'j', value_name = "N", allow_negative_numbers = true)]
+    pub jobs: Option<i64>,
+    /// Only the runs whose index is I modulo N (0 <= I < N), e.g. `--shard 2/8`; collect afterwards with --collect.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard, allow_hyphen_values = true)]
+    pub shard: Option<(usize, usize)>,
+    /// Print the runs (index, folder, values) and exit, running nothing.
+    #[arg(long)]
+    pub list: bool,
+    /// Run nothing: rebuild sweep.csv, sweep.json, the contact sheet and the comparison video from the run folders.
+    #[arg(long)]
+    pub collect: bool,
+    /// Redo every run, even completed ones or folders with other parameters.
+    #[arg(long)]
+    pub force: bool,
+    /// The frame shown in contact_sheet.png (default: each run's last).
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub sheet_frame: Option<i64>,
+    /// Number of output frames of every run, replacing `time.frames` / `time.duration`.
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub frames: Option<i64>,
+    /// Image size of every run, replacing `render.resolution`, e.g. `320x180`.
+    #[arg(long, value_name = "WxH", value_parser = parse_resolution, allow_hyphen_values = true)]
+    pub resolution: Option<(u32, u32)>,
+    /// Only simulate: each run writes scene.toml and stats.csv, no images (no contact sheet).
+    #[arg(long)]
+    pub no_render: bool,
+    /// Video of each run and of the comparison: auto = APNG, plus MP4 when ffmpeg is available.
+    #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
+    pub video: VideoChoice,
+    /// A run whose health summary reports a problem fails (like `elasto run --strict`).
+    #[arg(long)]
+    pub strict: bool,
+    /// Print nothing but errors (no progress).
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Parses `I/N` with `0 <= I < N`.
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (i, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("`{s}` is not I/N (e.g. 0/4)"))?;
+    match (i.trim().parse::<usize>(), n.trim().parse::<usize>()) {
+        (Ok(i), Ok(n)) if n >= 1 && i < n => Ok((i, n)),
+        _ => Err(format!(
+            "`{s}`: I and N must be whole numbers with 0 <= I < N (shards are numbered from 0)"
+        )),
+    }
+}
+
 /// The `--video` choices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum VideoChoice {
@@ -201,6 +271,15 @@ mod tests {
         assert_eq!(parse_resolution("1920X1080"), Ok((1920, 1080)));
         for bad in ["160", "0x10", "ax3", "10x-1", "99999x10"] {
             assert!(parse_resolution(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn shard_parses_and_rejects() {
+        assert_eq!(parse_shard("0/4"), Ok((0, 4)));
+        assert_eq!(parse_shard("3/4"), Ok((3, 4)));
+        for bad in ["4/4", "1", "-1/4", "1/0", "a/b"] {
+            assert!(parse_shard(bad).is_err(), "{bad}");
         }
     }
 

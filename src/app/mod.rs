@@ -1,4 +1,4 @@
-//! The commands: `run`, `scenes`, `check`, `compare` and `study`, from parsed flags to outputs.
+//! The commands: `run`, `scenes`, `check`, `compare`, `sweep` and `study`, from parsed flags to outputs.
 //!
 //! [`run`] is what `main` calls. Every command first turns its flags and the
 //! scene into validated settings, then checks what the run needs against
@@ -19,10 +19,12 @@ mod run_command;
 mod run_health;
 mod scenes_command;
 mod study_command;
+mod sweep_command;
 
 pub use app_error::AppError;
 pub use cli::{
-    CheckArgs, Cli, Command, CompareArgs, RunArgs, ScenesAction, ScenesArgs, StudyArgs, VideoChoice,
+    CheckArgs, Cli, Command, CompareArgs, RunArgs, ScenesAction, ScenesArgs, StudyArgs, SweepArgs,
+    VideoChoice,
 };
 pub use progress::{Progress, ProgressMode};
 pub use run_health::RunHealth;
@@ -44,6 +46,7 @@ pub fn run(cli: Cli) -> Result<(), AppError> {
             Ok(())
         }
         Command::Compare(args) => compare_command::compare(&args),
+        Command::Sweep(args) => sweep_command::sweep(&args),
         Command::Study(args) => study_command::study(&args),
     }
 }

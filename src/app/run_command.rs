@@ -92,7 +92,7 @@ struct Plan {
 
 /// The videos to write; a format this machine cannot write is an error
 /// before any work (`auto` only adds MP4 when it can be written).
-fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
+pub(super) fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
     let videos = match choice {
         VideoChoice::Auto if check_video_support(&[VideoFormat::Mp4]).is_ok() => {
             vec![VideoFormat::Apng, VideoFormat::Mp4]

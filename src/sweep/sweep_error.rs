@@ -1,5 +1,6 @@
 //! Errors of planning a sweep: a bad `--vary`, a bad sweep file, mismatched zip lengths.
 
+use super::{RecordError, TableError};
 use std::path::PathBuf;
 
 /// Errors of parsing and expanding the varied parameters of a sweep (all are
@@ -50,4 +51,80 @@ pub enum SweepError {
         /// What is wrong (with the key and, for TOML syntax, the line).
         reason: String,
     },
+    /// A run folder holds a run with other parameters.
+    #[error(
+        "{} holds a run with other parameters ({what}); use another --out, remove the folder, \
+         or give --force to redo every run",
+        folder.display()
+    )]
+    ChangedRun {
+        /// The run folder.
+        folder: PathBuf,
+        /// What differs.
+        what: String,
+    },
+    /// A run folder exists, is not empty and was not made by a sweep.
+    #[error(
+        "{} exists and was not made by elasto sweep (it has no {}); remove it or give --force",
+        folder.display(),
+        super::RUN_RECORD_FILE
+    )]
+    ForeignFolder {
+        /// The run folder.
+        folder: PathBuf,
+    },
+    /// A flag's value is out of range.
+    #[error("`{flag}`: {reason}")]
+    BadFlag {
+        /// The flag and its value as typed.
+        flag: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A run record could not be read or written.
+    #[error(transparent)]
+    Record(#[from] RecordError),
+    /// `sweep.csv` or `sweep.json` could not be written.
+    #[error(transparent)]
+    Table(#[from] TableError),
+    /// The contact sheet or the comparison video could not be made.
+    #[error("cannot write {}: {reason}", path.display())]
+    Image {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// A folder could not be made.
+    #[error("cannot create {}: {source}", path.display())]
+    Io {
+        /// The folder.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// Some runs failed (the others completed; see `sweep.csv`).
+    #[error("{failed} of {total} runs failed (see {})", table.display())]
+    RunsFailed {
+        /// Failed runs.
+        failed: usize,
+        /// Runs of this sweep (or shard).
+        total: usize,
+        /// Where the reasons are.
+        table: PathBuf,
+    },
+}
+
+impl SweepError {
+    /// 2 for bad input (nothing was run), 1 for a failure while working.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            SweepError::Record(_)
+            | SweepError::Table(_)
+            | SweepError::Image { .. }
+            | SweepError::Io { .. }
+            | SweepError::RunsFailed { .. } => 1,
+            _ => 2,
+        }
+    }
 }
