@@ -146,7 +146,12 @@ impl Renderer {
                             b: sky[2] as f64,
                             a: 1.0,
                         }),
-                        store: wgpu::StoreOp::Discard,
+                        // Only the resolved image is read; without MSAA it is this target.
+                        store: if resolve_target.is_some() {
+                            wgpu::StoreOp::Discard
+                        } else {
+                            wgpu::StoreOp::Store
+                        },
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
