@@ -26,6 +26,7 @@ mod gpu;
 mod gpu_resources;
 mod image_file;
 mod legend;
+mod legend_stamp;
 mod look;
 mod mesh_view;
 mod mp4_writer;
