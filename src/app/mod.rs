@@ -17,6 +17,7 @@ mod progress;
 mod render_stage;
 mod run_command;
 mod run_health;
+mod run_profile;
 mod scenes_command;
 
 pub use app_error::AppError;

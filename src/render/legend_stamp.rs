@@ -100,7 +100,9 @@ impl LegendStamp {
     fn paste_footprint(&self, image: &mut RgbaImage) {
         let rows: Vec<_> = self.rows().collect();
         let raw: &mut [u8] = image;
-        let mut kept = self.over.chunks_exact(rows.first().map_or(1, |r| r.len().max(1)));
+        let mut kept = self
+            .over
+            .chunks_exact(rows.first().map_or(1, |r| r.len().max(1)));
         for row in rows {
             if let Some(source) = kept.next() {
                 raw[row].copy_from_slice(source);

@@ -41,7 +41,7 @@ pub use gpu::{adapter_description, max_image_size};
 pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
 pub use partial_file::remove_partial_files;
 pub use renderer::{FrameTimings, Renderer};
-pub use sequence::{SequenceWriter, render_sequence};
+pub use sequence::{FrameCost, SequenceWriter, render_sequence};
 pub use video::file_name as video_file_name;
 
 use std::path::PathBuf;
