@@ -11,7 +11,9 @@
 //!
 //! A full queue makes [`SequenceWriter::push`] wait, so neither rendering nor
 //! the simulation feeding it can run ahead of the encoders by more than a few
-//! frames. The first error stops the run; videos are renamed to their final
+//! frames. Each frame's [`FrameCost`] (draw, readback, legend, PNG, videos)
+//! is handed out by [`SequenceWriter::take_costs`] once the frame is in the
+//! PNG file and in every video, in frame order. The first error stops the run; videos are renamed to their final
 //! names only by [`SequenceWriter::finish`] after every frame and every video
 //! succeeded. A writer dropped unfinished (the simulation failed) removes its
 //! partial videos; the frames already written stay, each one complete. On
