@@ -1,4 +1,6 @@
-//! `stats.csv`: one row per output frame, written and flushed as each frame finishes.
+//! `stats.csv`: one row per output frame, written and flushed as each frame
+//! finishes. A rendered frame finishes when its image is written: its row
+//! ([`PendingRow`]) waits for the rendering times that end it.
 
 use super::OutputError;
 use crate::sim::FrameStats;
