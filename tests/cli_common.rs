@@ -69,6 +69,13 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "min_height",
     "min_volume_ratio",
     "sim_ms",
+    "unconverged_steps",
+    "stalled_steps",
+    "assembly_ms",
+    "factorisation_ms",
+    "line_search_ms",
+    "render_ms",
+    "encode_ms",
 ];
 
 /// A small valid 2D scene file text (falls onto a ground).

@@ -68,6 +68,10 @@ pub struct RunArgs {
     /// Video to write besides the PNG frames: auto = APNG, plus MP4 when ffmpeg is available.
     #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
     pub video: VideoChoice,
+    /// At the end, print where the time went per frame: a table of solver and rendering
+    /// phases (median ms per frame, total s).
+    #[arg(long)]
+    pub profile: bool,
 }
 
 /// Arguments of `elasto study`.

@@ -17,6 +17,7 @@ mod progress;
 mod render_stage;
 mod run_command;
 mod run_health;
+mod run_profile;
 mod scenes_command;
 mod study_command;
 mod sweep_command;

@@ -6,11 +6,16 @@
 //! The automatic camera and colour range need the whole motion first
 //! ([`RenderSettings::needs_whole_run`]); then frames are kept (positions and
 //! one value per element, no images) and rendered after the simulation.
+//! Keeping the frames is the cheap first pass: the simulation runs once, and
+//! its frames are drawn after it exactly as they would have been while it
+//! ran (`tests/render_streaming.rs` checks both give the same files).
+//!
+//! Either way the stage hands out, in frame order, the cost of every frame
+//! completely written ([`FrameCost`]), for `stats.csv` and `--profile`.
 
 use super::progress::{Progress, ProgressMode};
 use crate::render::{
-    RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, SequenceWriter,
-    render_sequence,
+    FrameCost, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, SequenceWriter,
 };
 
 /// The renderer's side of a run.
@@ -79,23 +84,55 @@ impl RenderStage {
         Ok(())
     }
 
+    /// The costs of the frames completely written since the last call, in
+    /// frame order (none yet for a deferred run).
+    pub fn take_costs(&mut self) -> Vec<FrameCost> {
+        match &mut self.pending {
+            Pending::Streaming(Some(writer)) => writer.take_costs(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Completes the frames and videos: waits for the encoders of a streamed
-    /// run, or renders a deferred one with its own progress.
-    pub fn finish(self, progress_mode: ProgressMode) -> Result<(), RenderError> {
+    /// run, or renders a deferred one with its own progress. `written` gets
+    /// the costs of the frames [`RenderStage::take_costs`] did not hand out,
+    /// in frame order, as they are written.
+    pub fn finish(
+        self,
+        progress_mode: ProgressMode,
+        written: &mut dyn FnMut(Vec<FrameCost>),
+    ) -> Result<(), RenderError> {
         match self.pending {
-            Pending::Streaming(Some(writer)) => writer.finish(),
+            Pending::Streaming(Some(writer)) => {
+                written(writer.finish_with_costs()?);
+                Ok(())
+            }
             Pending::Streaming(None) => Err(RenderError::InvalidInput(
                 "the run ended before its first frame".into(),
             )),
             Pending::Deferred(frames) => {
                 let mut progress = Progress::start(progress_mode, "render", frames.len());
-                render_sequence(
+                let mut writer = SequenceWriter::create(
                     &self.settings,
                     &self.mesh,
+                    frames.len(),
                     &frames,
                     &self.outputs,
-                    &mut |i| progress.update(i + 1, || format!("frame_{i:04}.png")),
                 )?;
+                let mut reported = 0;
+                let mut report = |written_frames: usize| {
+                    while reported < written_frames {
+                        progress.update(reported + 1, || format!("frame_{reported:04}.png"));
+                        reported += 1;
+                    }
+                };
+                for frame in &frames {
+                    writer.push(frame)?;
+                    report(writer.frames_written());
+                    written(writer.take_costs());
+                }
+                written(writer.finish_with_costs()?);
+                report(frames.len());
                 progress.finish();
                 Ok(())
             }

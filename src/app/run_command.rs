@@ -6,24 +6,36 @@
 //!
 //! Data outputs are written as each frame is simulated. Images are too when
 //! the scene fixes the camera and the colour range; otherwise they are
-//! rendered after the simulation (see [`RenderStage`]).
+//! rendered after the simulation (see [`RenderStage`]). A `stats.csv` row
+//! ends with the frame's rendering times, so when rendering it is written
+//! once its frame is on disk ([`FrameLog`]); `--profile` prints the phases
+//! of every frame as a table at the end ([`RunProfile`]).
 
 use super::cli::{RunArgs, VideoChoice};
 use super::preflight::{self, SceneInput};
 use super::progress::{Progress, ProgressMode};
 use super::render_stage::RenderStage;
 use super::run_health::RunHealth;
+use super::run_profile::RunProfile;
 use super::{AppError, build_simulation, scene_overrides};
 use crate::energy::ElementField;
-use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter, SurfaceFormat, SurfaceSeriesWriter};
+use crate::output::{
+    MeshSeriesWriter, OutputDir, PendingRow, RenderTimes, StatsWriter, SurfaceFormat,
+    SurfaceSeriesWriter,
+};
 use crate::render::{
-    RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support, video_file_name,
+    FrameCost, RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support,
+    video_file_name,
 };
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneOverride, SceneSource};
+use crate::sim::FrameStats;
+use std::collections::VecDeque;
 use std::path::PathBuf;
+use std::time::Instant;
 
 /// Runs `elasto run`.
 pub fn run(args: &RunArgs) -> Result<(), AppError> {
+    let start = Instant::now();
     // 1. Everything the user gave is validated before anything is written.
     let source = SceneSource::resolve(args.scene.as_deref())?;
     let mut overrides = scene_overrides(&args.set)?;
@@ -66,6 +78,7 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         force: args.force,
         strict: args.strict,
         progress: ProgressMode::detect(args.quiet),
+        profile: args.profile.then_some(start),
     };
     let input = SceneInput {
         source: &source,
@@ -88,6 +101,8 @@ struct Plan {
     force: bool,
     strict: bool,
     progress: ProgressMode,
+    /// `--profile`: when the run started.
+    profile: Option<Instant>,
 }
 
 /// The videos to write; a format this machine cannot write is an error
@@ -149,7 +164,8 @@ fn run_scene<const D: usize>(
     let out = OutputDir::check(&plan.out, plan.force, &plan.writes())?;
     out.prepare()?;
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
-    let mut stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
+    let stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
+    let mut log = FrameLog::new(stats, plan.render, plan.profile.is_some());
     let mut meshes = if plan.save_meshes {
         Some(MeshSeriesWriter::create(&out.join("meshes"))?)
     } else {
@@ -192,56 +208,83 @@ fn run_scene<const D: usize>(
     };
     let mut progress = Progress::start(plan.progress, label, frames);
     let mut health = RunHealth::new();
-    for frame in 0..frames {
-        let frame_stats = if frame == 0 {
-            sim.frame_stats()
-        } else {
-            sim.advance_frame(config.time.substeps)
-                .map_err(|source| AppError::Simulation {
-                    scene: name.clone(),
-                    frame,
-                    source,
-                })?
-        };
-        stats.write_frame(frame, &frame_stats)?;
-        let steps = if frame == 0 { 0 } else { config.time.substeps };
-        health.add(frame, steps, &frame_stats);
-        if meshes.is_some() || render.is_some() || surfaces.is_some() {
-            let values = sim.element_field(field);
-            if let Some(writer) = &surfaces {
-                let shown = match config.field {
-                    FieldChoice::Flat => None,
-                    FieldChoice::Scalar(_) => Some((field_name, values.as_slice())),
-                };
-                writer.write_frame(frame, sim.positions(), shown)?;
+    // The frames, until one fails: then the rows waiting for their images
+    // are written all the same, with empty rendering cells.
+    let simulated = (|| -> Result<(), AppError> {
+        for frame in 0..frames {
+            let frame_stats = if frame == 0 {
+                sim.frame_stats()
+            } else {
+                sim.advance_frame(config.time.substeps)
+                    .map_err(|source| AppError::Simulation {
+                        scene: name.clone(),
+                        frame,
+                        source,
+                    })?
+            };
+            log.simulated(frame, &frame_stats)?;
+            let steps = if frame == 0 { 0 } else { config.time.substeps };
+            health.add(frame, steps, &frame_stats);
+            if meshes.is_some() || render.is_some() || surfaces.is_some() {
+                let values = sim.element_field(field);
+                if let Some(writer) = &surfaces {
+                    let shown = match config.field {
+                        FieldChoice::Flat => None,
+                        FieldChoice::Scalar(_) => Some((field_name, values.as_slice())),
+                    };
+                    writer.write_frame(frame, sim.positions(), shown)?;
+                }
+                if let Some(writer) = &mut meshes {
+                    writer.write_frame(
+                        frame,
+                        frame_stats.time,
+                        sim.mesh(),
+                        sim.positions(),
+                        &[(field_name, &values)],
+                    )?;
+                }
+                if let Some(render) = &mut render {
+                    render
+                        .add(RenderFrame::from_positions(sim.positions(), &values))
+                        .map_err(AppError::Render)?;
+                    log.rendered(render.take_costs())?;
+                }
             }
-            if let Some(writer) = &mut meshes {
-                writer.write_frame(
-                    frame,
-                    frame_stats.time,
-                    sim.mesh(),
-                    sim.positions(),
-                    &[(field_name, &values)],
-                )?;
-            }
-            if let Some(render) = &mut render {
-                render
-                    .add(RenderFrame::from_positions(sim.positions(), &values))
-                    .map_err(AppError::Render)?;
-            }
+            progress.update(frame + 1, || {
+                format!(
+                    "t = {:.3} s, {} Newton iterations, {} backtracks",
+                    frame_stats.time, frame_stats.iterations, frame_stats.backtracks
+                )
+            });
         }
-        progress.update(frame + 1, || {
-            format!(
-                "t = {:.3} s, {} Newton iterations, {} backtracks",
-                frame_stats.time, frame_stats.iterations, frame_stats.backtracks
-            )
-        });
-    }
+        Ok(())
+    })();
     progress.finish();
 
     // 4. Complete the frames and the videos.
-    if let Some(render) = render {
-        render.finish(plan.progress).map_err(AppError::Render)?;
+    let rendered = simulated.and_then(|()| match render.take() {
+        Some(render) => {
+            let mut written = Ok(());
+            let finished = render.finish(plan.progress, &mut |costs| {
+                if written.is_ok() {
+                    written = log.rendered(costs);
+                }
+            });
+            finished.map_err(AppError::Render).and(written)
+        }
+        None => Ok(()),
+    });
+    if let Err(error) = rendered {
+        if let Some(render) = &mut render {
+            let _ = log.rendered(render.take_costs());
+        }
+        // Dropping the renderer first removes its partial videos.
+        drop(render);
+        let _ = log.abandon();
+        return Err(error);
+    }
+    if let (Some(start), Some(profile)) = (plan.profile, &log.profile) {
+        print!("{}", profile.table(start.elapsed()));
     }
 
     if plan.progress != ProgressMode::Quiet {
@@ -275,6 +318,75 @@ fn run_scene<const D: usize>(
         eprintln!("warning: {name}: health: {summary}");
     }
     Ok(())
+}
+
+/// `stats.csv` rows waiting for their frame's rendering times, and the
+/// `--profile` record.
+struct FrameLog {
+    stats: StatsWriter,
+    render: bool,
+    pending: VecDeque<PendingRow>,
+    profile: Option<RunProfile>,
+}
+
+impl FrameLog {
+    fn new(stats: StatsWriter, render: bool, profile: bool) -> Self {
+        Self {
+            stats,
+            render,
+            pending: VecDeque::new(),
+            profile: profile.then(RunProfile::default),
+        }
+    }
+
+    /// Frame `frame` is simulated: its row is written now without rendering,
+    /// otherwise once its image is written.
+    fn simulated<const D: usize>(
+        &mut self,
+        frame: usize,
+        stats: &FrameStats<D>,
+    ) -> Result<(), AppError> {
+        if let Some(profile) = &mut self.profile
+            && frame > 0
+        {
+            profile.simulated(&stats.times, stats.wall_time);
+        }
+        let row = self.stats.row(frame, stats);
+        if self.render {
+            self.pending.push_back(row);
+            Ok(())
+        } else {
+            Ok(self.stats.write_row(row, Some(RenderTimes::default()))?)
+        }
+    }
+
+    /// The next frames, in order, are written to disk.
+    fn rendered(&mut self, costs: Vec<FrameCost>) -> Result<(), AppError> {
+        for cost in costs {
+            if let Some(profile) = &mut self.profile {
+                profile.rendered(&cost);
+            }
+            let row = self
+                .pending
+                .pop_front()
+                .expect("a frame is rendered only after it is simulated");
+            let times = RenderTimes {
+                render: cost.render(),
+                encode: cost.encode(),
+            };
+            self.stats.write_row(row, Some(times))?;
+        }
+        Ok(())
+    }
+
+    /// The run failed: the rows still waiting are written with empty
+    /// rendering cells.
+    fn abandon(&mut self) -> Result<(), AppError> {
+        while let Some(row) = self.pending.pop_front() {
+            self.stats.write_row(row, None)?;
+        }
+        Ok(())
+    }
 }
 
 /// The resolved scene with a note on how to reuse it.

@@ -13,7 +13,7 @@ mod surface_writer;
 pub use mesh_series_writer::MeshSeriesWriter;
 pub use output_dir::OutputDir;
 pub use output_error::OutputError;
-pub use stats_writer::{StatsWriter, stats_columns};
+pub use stats_writer::{PendingRow, RenderTimes, StatsWriter, stats_columns};
 pub use surface_writer::{
     Surface, SurfaceFormat, SurfaceSeriesWriter, surface_file_name, write_surface,
 };

@@ -5,8 +5,15 @@
 //! one uniform buffer of [`Globals`] shared by every shader, a pipeline per
 //! layer (background, ground, surface, lines), vertex buffers for the
 //! surface's triangle corners and the instanced line segments, a 4x MSAA
-//! colour target resolved to `Rgba8UnormSrgb`, a depth target, and a
+//! colour target resolved to `Rgba8UnormSrgb`, a depth target in 3D, and a
 //! readback buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
+//!
+//! 2D has no depth target: everything lies in the plane z = 0 under an
+//! orthographic camera and edges are not pulled towards the eye, so every
+//! fragment has the same depth and the `LessEqual` test passed them all, in
+//! draw order. Without it the image is the same (painter's order), and the
+//! software rasteriser saves clearing and testing four depth samples per
+//! pixel.
 //! The uniform and vertex types are `#[repr(C)]` `bytemuck::Pod` and match
 //! the WGSL structs in `shaders/` field for field.
 
@@ -86,7 +93,8 @@ pub(super) struct GpuResources {
     pub msaa_view: Option<wgpu::TextureView>,
     pub resolved: wgpu::Texture,
     pub resolved_view: wgpu::TextureView,
-    pub depth_view: wgpu::TextureView,
+    /// Depth target (3D only).
+    pub depth_view: Option<wgpu::TextureView>,
     pub readback: wgpu::Buffer,
     pub padded_bytes_per_row: u32,
 }
@@ -138,10 +146,12 @@ impl GpuResources {
             immediate_size: 0,
         });
 
+        let depth = mesh.dimension == 3;
         let builder = PipelineBuilder {
             device,
             layout: &layout,
             samples,
+            depth,
         };
         let background = builder.build(
             "background pipeline",
@@ -253,15 +263,17 @@ impl GpuResources {
             label: Some("resolved colour view"),
             ..Default::default()
         });
-        let depth_view = texture(
-            "depth target",
-            DEPTH_FORMAT,
-            samples,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-        .create_view(&wgpu::TextureViewDescriptor {
-            label: Some("depth view"),
-            ..Default::default()
+        let depth_view = depth.then(|| {
+            texture(
+                "depth target",
+                DEPTH_FORMAT,
+                samples,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            )
+            .create_view(&wgpu::TextureViewDescriptor {
+                label: Some("depth view"),
+                ..Default::default()
+            })
         });
 
         let padded_bytes_per_row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
@@ -297,11 +309,14 @@ struct PipelineBuilder<'a> {
     device: &'a wgpu::Device,
     layout: &'a wgpu::PipelineLayout,
     samples: u32,
+    /// Whether the pass has a depth target.
+    depth: bool,
 }
 
 impl PipelineBuilder<'_> {
     /// A triangle-list pipeline. Depth-tested ones test `LessEqual` and
     /// write depth; the others (background, 2D ground) are painted in order.
+    /// Without a depth target (2D) every pipeline paints in order.
     fn build(
         &self,
         label: &'static str,
@@ -325,7 +340,7 @@ impl PipelineBuilder<'_> {
                     cull_mode: None,
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
+                depth_stencil: self.depth.then_some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(depth_tested),
                     depth_compare: Some(if depth_tested {

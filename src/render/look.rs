@@ -12,7 +12,8 @@
 //!   and blurs as the body rises (`contact_shadow`); it follows every frame.
 //! - Edges: thin dark lines, faded out when the median edge is so short on
 //!   screen that lines would cover the colours (dense meshes, small images).
-//! - Legend: the colour bar with the field's label, drawn on the CPU.
+//! - Legend: the colour bar with the field's label, drawn on the CPU once
+//!   and stamped onto the frames ([`LegendStamp`]).
 //!
 //! Sizes scale with the image height (reference: 720 pixels).
 
@@ -20,6 +21,7 @@ use super::camera::{self, Bounds, Framing, View};
 use super::colormap::{srgb_to_linear3, viridis};
 use super::gpu_resources::{Globals, LineInstance};
 use super::legend::Legend;
+use super::legend_stamp::LegendStamp;
 use super::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
 use nalgebra::{Vector3, Vector4};
@@ -33,7 +35,7 @@ const NAN_SRGB: [f32; 3] = [0.55, 0.55, 0.55];
 pub(super) struct Look {
     colouring: Colouring,
     range: [f32; 2],
-    legend: Option<Legend>,
+    legend: Option<LegendStamp>,
     globals: Globals,
     /// The 2D ground's line, drawn behind the body.
     ground_line: Option<LineInstance>,
@@ -117,7 +119,7 @@ impl Look {
         Ok(Self {
             colouring: settings.colouring,
             range,
-            legend,
+            legend: legend.map(|legend| LegendStamp::new(legend, width, height)),
             globals,
             ground_line,
             edges,
@@ -187,8 +189,8 @@ impl Look {
     }
 
     /// Draws what is drawn on the CPU over the rendered image: the legend.
-    pub fn draw_overlay(&self, image: &mut RgbaImage) {
-        if let Some(legend) = &self.legend {
+    pub fn draw_overlay(&mut self, image: &mut RgbaImage) {
+        if let Some(legend) = &mut self.legend {
             legend.draw(image);
         }
     }

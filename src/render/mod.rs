@@ -27,6 +27,7 @@ mod gpu_resources;
 mod image_file;
 mod image_video;
 mod legend;
+mod legend_stamp;
 mod look;
 mod mesh_view;
 mod mp4_writer;
@@ -42,7 +43,7 @@ pub use image_video::write_image_video;
 pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
 pub use partial_file::remove_partial_files;
 pub use renderer::{FrameTimings, Renderer};
-pub use sequence::{SequenceWriter, render_sequence};
+pub use sequence::{FrameCost, SequenceWriter, render_sequence};
 pub use video::file_name as video_file_name;
 
 use std::path::PathBuf;

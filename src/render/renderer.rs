@@ -6,12 +6,12 @@
 //! legend) and the GPU objects ([`GpuResources`]) are all fixed then. Each
 //! frame then reads as one straight line: check it, fill the vertex and
 //! uniform buffers, encode the pass (background, ground, surface, edges) into
-//! a 4x MSAA target resolved to `Rgba8UnormSrgb`, submit and wait; copy the
-//! resolved texture to a buffer with rows padded to
-//! `COPY_BYTES_PER_ROW_ALIGNMENT`, map it, wait, strip the padding; then draw
-//! the legend on the CPU. (Two submissions instead of one cost next to
-//! nothing and let [`Renderer::render_timed`] time drawing and readback
-//! apart.)
+//! a 4x MSAA target (with a depth target in 3D) resolved to `Rgba8UnormSrgb`,
+//! submit and wait; copy the resolved texture to a buffer with rows padded
+//! to `COPY_BYTES_PER_ROW_ALIGNMENT`, map it, wait, strip the padding; then
+//! stamp the legend, drawn once on the CPU. (Two submissions instead of one
+//! cost next to nothing and let [`Renderer::render_timed`] time drawing and
+//! readback apart.)
 //!
 //! Colours are computed on the CPU (viridis in sRGB, converted to linear);
 //! shaders work in linear light and the sRGB target encodes on write, so an
@@ -146,16 +146,23 @@ impl Renderer {
                             b: sky[2] as f64,
                             a: 1.0,
                         }),
-                        store: wgpu::StoreOp::Discard,
+                        // Only the resolved image is read; without MSAA it is this target.
+                        store: if resolve_target.is_some() {
+                            wgpu::StoreOp::Discard
+                        } else {
+                            wgpu::StoreOp::Store
+                        },
                     },
                 })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &r.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
+                depth_stencil_attachment: r.depth_view.as_ref().map(|depth_view| {
+                    wgpu::RenderPassDepthStencilAttachment {
+                        view: depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Discard,
+                        }),
+                        stencil_ops: None,
+                    }
                 }),
                 timestamp_writes: None,
                 occlusion_query_set: None,

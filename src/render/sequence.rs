@@ -11,7 +11,9 @@
 //!
 //! A full queue makes [`SequenceWriter::push`] wait, so neither rendering nor
 //! the simulation feeding it can run ahead of the encoders by more than a few
-//! frames. The first error stops the run; videos are renamed to their final
+//! frames. Each frame's [`FrameCost`] (draw, readback, legend, PNG, videos)
+//! is handed out by [`SequenceWriter::take_costs`] once the frame is in the
+//! PNG file and in every video, in frame order. The first error stops the run; videos are renamed to their final
 //! names only by [`SequenceWriter::finish`] after every frame and every video
 //! succeeded. A writer dropped unfinished (the simulation failed) removes its
 //! partial videos; the frames already written stay, each one complete. On
@@ -23,13 +25,38 @@ use super::export::{check_video_support, frame_file_name, write_png_atomically};
 use super::partial_file::PartialFile;
 use super::video::{self, VideoSpec, VideoWriter};
 use super::{
-    RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer, VideoFormat,
+    FrameTimings, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer,
+    VideoFormat,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use image::RgbaImage;
 use std::path::Path;
 use std::sync::Arc;
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// Where the time of one written frame went.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrameCost {
+    /// Drawing, readback and legend, on the thread that pushed the frame.
+    pub timings: FrameTimings,
+    /// Encoding and writing the frame's PNG file, on a PNG worker.
+    pub png: Duration,
+    /// Encoding and writing the frame into every video, on the video threads.
+    pub video: Duration,
+}
+
+impl FrameCost {
+    /// Drawing, readback and legend: the frame until it is an image.
+    pub fn render(&self) -> Duration {
+        self.timings.draw + self.timings.readback + self.timings.overlay
+    }
+
+    /// PNG and video encoding and writing: the image until it is on disk.
+    pub fn encode(&self) -> Duration {
+        self.png + self.video
+    }
+}
 
 /// Renders frames one at a time and writes them as PNG files and videos.
 pub struct SequenceWriter {
@@ -37,12 +64,19 @@ pub struct SequenceWriter {
     frame_count: usize,
     pushed: usize,
     png_sender: Option<Sender<(usize, Arc<RgbaImage>)>>,
-    png_done: Receiver<Result<usize, RenderError>>,
+    png_done: Receiver<Result<(usize, Duration), RenderError>>,
     png_workers: Vec<JoinHandle<()>>,
     videos: Vec<VideoThread>,
+    /// Frames (in order, one per video) each video thread has written, with the time it took.
+    video_done: Receiver<(usize, Duration)>,
     /// Which frames are written, and how many from the start in a row.
     written: Vec<bool>,
     written_in_order: usize,
+    /// Per frame: its cost so far, and how many videos have written it.
+    costs: Vec<FrameCost>,
+    videos_written: Vec<usize>,
+    /// Frames whose costs [`SequenceWriter::take_costs`] has handed out.
+    costs_taken: usize,
     /// A frame or video failed: the run can no longer complete.
     failed: bool,
 }
@@ -91,6 +125,7 @@ impl SequenceWriter {
 
         let (width, height) = renderer.size();
         let mut videos: Vec<VideoThread> = Vec::new();
+        let (video_done_sender, video_done) = unbounded();
         let mut formats: Vec<VideoFormat> = Vec::new();
         for &format in &outputs.videos {
             if formats.contains(&format) {
@@ -109,7 +144,11 @@ impl SequenceWriter {
             // A failure here drops the threads started so far, which removes their files.
             let partial = PartialFile::new(&path)?;
             let writer = video::open(format, &spec, &partial)?;
-            videos.push(VideoThread::spawn(partial, writer));
+            videos.push(VideoThread::spawn(
+                partial,
+                writer,
+                video_done_sender.clone(),
+            ));
         }
 
         let workers = std::thread::available_parallelism()
@@ -133,8 +172,12 @@ impl SequenceWriter {
             png_done,
             png_workers,
             videos,
+            video_done,
             written: vec![false; frame_count],
             written_in_order: 0,
+            costs: vec![FrameCost::default(); frame_count],
+            videos_written: vec![0; frame_count],
+            costs_taken: 0,
             failed: false,
         })
     }
@@ -159,7 +202,9 @@ impl SequenceWriter {
                 self.frame_count
             )));
         }
-        let image = Arc::new(self.renderer.render(frame)?);
+        let (image, timings) = self.renderer.render_timed(frame)?;
+        self.costs[self.pushed].timings = timings;
+        let image = Arc::new(image);
         for video in &self.videos {
             let sent = video
                 .sender
@@ -189,9 +234,40 @@ impl SequenceWriter {
         self.written_in_order
     }
 
+    /// The costs of the frames completely written (PNG and every video)
+    /// since the last call, in frame order, without gaps: frame `k` is
+    /// handed out only after frames `0..k`.
+    pub fn take_costs(&mut self) -> Vec<FrameCost> {
+        while let Ok(done) = self.png_done.try_recv() {
+            // An error is kept and reported by the next push or by finish.
+            let _ = self.record(done);
+        }
+        self.collect_costs()
+    }
+
+    fn collect_costs(&mut self) -> Vec<FrameCost> {
+        while let Ok((index, time)) = self.video_done.try_recv() {
+            self.costs[index].video += time;
+            self.videos_written[index] += 1;
+        }
+        let start = self.costs_taken;
+        while self.costs_taken < self.written_in_order
+            && self.videos_written[self.costs_taken] == self.videos.len()
+        {
+            self.costs_taken += 1;
+        }
+        self.costs[start..self.costs_taken].to_vec()
+    }
+
     /// Waits for every queued frame and video, then gives the videos their
     /// final names. Fails if fewer frames were pushed than the run has.
-    pub fn finish(mut self) -> Result<(), RenderError> {
+    pub fn finish(self) -> Result<(), RenderError> {
+        self.finish_with_costs().map(|_| ())
+    }
+
+    /// [`SequenceWriter::finish`], also handing out the costs of the frames
+    /// [`SequenceWriter::take_costs`] has not.
+    pub fn finish_with_costs(mut self) -> Result<Vec<FrameCost>, RenderError> {
         let mut first_error = None;
         self.png_sender = None;
         for done in self.png_done.clone().iter() {
@@ -219,17 +295,19 @@ impl SequenceWriter {
         if let Some(error) = first_error {
             return Err(error);
         }
+        let costs = self.collect_costs();
         for video in std::mem::take(&mut self.videos) {
             video.publish()?;
         }
-        Ok(())
+        Ok(costs)
     }
 
     /// Marks frame `done` written, or keeps its error.
-    fn record(&mut self, done: Result<usize, RenderError>) -> Result<(), RenderError> {
+    fn record(&mut self, done: Result<(usize, Duration), RenderError>) -> Result<(), RenderError> {
         match done {
-            Ok(index) => {
+            Ok((index, time)) => {
                 self.written[index] = true;
+                self.costs[index].png = time;
                 while self.written_in_order < self.frame_count
                     && self.written[self.written_in_order]
                 {
@@ -277,11 +355,17 @@ impl Drop for SequenceWriter {
 }
 
 impl VideoThread {
-    fn spawn(partial: PartialFile, mut writer: Box<dyn VideoWriter>) -> Self {
+    fn spawn(
+        partial: PartialFile,
+        mut writer: Box<dyn VideoWriter>,
+        done: Sender<(usize, Duration)>,
+    ) -> Self {
         let (sender, receiver) = bounded::<Arc<RgbaImage>>(3);
         let thread = std::thread::spawn(move || -> Result<(), RenderError> {
-            for image in receiver {
+            for (index, image) in receiver.into_iter().enumerate() {
+                let start = Instant::now();
                 writer.push(&image)?;
+                let _ = done.send((index, start.elapsed()));
             }
             writer.finish()
         });
@@ -343,12 +427,14 @@ fn png_worker(
     dir: &Path,
     frame_count: usize,
     frames: Receiver<(usize, Arc<RgbaImage>)>,
-    done: Sender<Result<usize, RenderError>>,
+    done: Sender<Result<(usize, Duration), RenderError>>,
 ) {
     let mut rgb = Vec::new();
     for (index, image) in frames {
+        let start = Instant::now();
         let path = dir.join(frame_file_name(index, frame_count));
-        let result = write_png_atomically(&path, &image, &mut rgb).map(|()| index);
+        let result =
+            write_png_atomically(&path, &image, &mut rgb).map(|()| (index, start.elapsed()));
         let failed = result.is_err();
         let _ = done.send(result);
         if failed {

@@ -1,0 +1,171 @@
+//! `elasto run --profile`: where the time of a run went, phase by phase.
+//!
+//! Every output frame contributes one duration per phase: the solver's
+//! phases summed over the frame's substeps (frame 0, the initial state, is
+//! not simulated and does not count for them), and the rendering phases of
+//! its image. The table gives, per phase, the median over the frames in
+//! milliseconds and the total over the run in seconds, and the run's wall
+//! time. Rendering phases run on other threads than the simulation (drawing
+//! on the main thread, PNG and video encoding on workers), so the totals can
+//! add up to more than the wall time: that is the work that overlapped.
+
+use crate::render::FrameCost;
+use crate::solver::PhaseTimes;
+use std::fmt::Write as _;
+use std::time::Duration;
+
+/// The phases of the table, in order.
+const PHASES: [&str; 9] = [
+    "assembly",
+    "factorisation + solve",
+    "line search",
+    "other simulation",
+    "draw",
+    "readback",
+    "legend",
+    "PNG encode + write",
+    "video encode + write",
+];
+const SIMULATION_PHASES: usize = 4;
+
+/// Per-frame durations of every phase.
+#[derive(Debug, Default)]
+pub struct RunProfile {
+    simulated: Vec<[Duration; SIMULATION_PHASES]>,
+    rendered: Vec<[Duration; PHASES.len() - SIMULATION_PHASES]>,
+}
+
+impl RunProfile {
+    /// Records a simulated frame: its solver phases and its whole wall time.
+    pub fn simulated(&mut self, times: &PhaseTimes, wall: Duration) {
+        let solver = times.assembly + times.factorisation + times.line_search;
+        self.simulated.push([
+            times.assembly,
+            times.factorisation,
+            times.line_search,
+            wall.saturating_sub(solver),
+        ]);
+    }
+
+    /// Records a rendered and written frame.
+    pub fn rendered(&mut self, cost: &FrameCost) {
+        self.rendered.push([
+            cost.timings.draw,
+            cost.timings.readback,
+            cost.timings.overlay,
+            cost.png,
+            cost.video,
+        ]);
+    }
+
+    /// The table, ending with the run's wall time.
+    pub fn table(&self, wall: Duration) -> String {
+        let mut text = String::new();
+        let _ = writeln!(
+            text,
+            "{:<22} {:>8} {:>14} {:>9}",
+            "phase", "frames", "median ms", "total s"
+        );
+        let columns = |phase: usize| -> Vec<Duration> {
+            if phase < SIMULATION_PHASES {
+                self.simulated.iter().map(|row| row[phase]).collect()
+            } else {
+                let phase = phase - SIMULATION_PHASES;
+                self.rendered.iter().map(|row| row[phase]).collect()
+            }
+        };
+        for (phase, name) in PHASES.iter().enumerate() {
+            let values = columns(phase);
+            if values.is_empty() {
+                continue;
+            }
+            let total: Duration = values.iter().sum();
+            let _ = writeln!(
+                text,
+                "{name:<22} {:>8} {:>14.3} {:>9.3}",
+                values.len(),
+                median(&values).as_secs_f64() * 1e3,
+                total.as_secs_f64()
+            );
+        }
+        let _ = writeln!(
+            text,
+            "{:<22} {:>8} {:>14} {:>9.3}",
+            "wall time of the run",
+            "",
+            "",
+            wall.as_secs_f64()
+        );
+        text
+    }
+}
+
+/// The median (the upper one of an even count).
+fn median(values: &[Duration]) -> Duration {
+    let mut sorted = values.to_vec();
+    sorted.sort();
+    sorted[sorted.len() / 2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::FrameTimings;
+
+    fn ms(v: u64) -> Duration {
+        Duration::from_millis(v)
+    }
+
+    /// The cells of the row of `phase`.
+    fn row(table: &str, phase: &str) -> Vec<String> {
+        let line = table
+            .lines()
+            .find(|l| l.starts_with(phase))
+            .unwrap_or_else(|| panic!("no row {phase} in\n{table}"));
+        line[phase.len()..]
+            .split_whitespace()
+            .map(str::to_owned)
+            .collect()
+    }
+
+    #[test]
+    fn the_table_gives_medians_and_totals_per_phase() {
+        let mut profile = RunProfile::default();
+        for (assembly, wall) in [(1, 10), (3, 12), (2, 20)] {
+            let times = PhaseTimes {
+                assembly: ms(assembly),
+                factorisation: ms(4),
+                line_search: ms(1),
+            };
+            profile.simulated(&times, ms(wall));
+        }
+        for draw in [30, 10, 20, 40] {
+            profile.rendered(&FrameCost {
+                timings: FrameTimings {
+                    draw: ms(draw),
+                    readback: ms(1),
+                    overlay: Duration::ZERO,
+                },
+                png: ms(3),
+                video: ms(5),
+            });
+        }
+        let table = profile.table(Duration::from_millis(1500));
+        assert_eq!(row(&table, "assembly"), ["3", "2.000", "0.006"]);
+        // wall - (assembly + factorisation + line search) = 10 - 6, 12 - 8, 20 - 7 ms.
+        assert_eq!(row(&table, "other simulation"), ["3", "4.000", "0.021"]);
+        // Median of 10, 20, 30, 40: the upper middle value.
+        assert_eq!(row(&table, "draw"), ["4", "30.000", "0.100"]);
+        assert_eq!(row(&table, "video encode + write"), ["4", "5.000", "0.020"]);
+        assert_eq!(row(&table, "wall time of the run"), ["1.500"]);
+    }
+
+    #[test]
+    fn a_run_without_rendering_has_no_rendering_rows() {
+        let mut profile = RunProfile::default();
+        profile.simulated(&PhaseTimes::default(), ms(2));
+        let table = profile.table(ms(2));
+        assert_eq!(row(&table, "other simulation"), ["1", "2.000", "0.002"]);
+        assert!(!table.contains("draw"), "{table}");
+    }
+}
