@@ -44,7 +44,7 @@ fn simulate(run: &Run, end: f64) -> (Vec<Vector2>, Vector2, f64, f64) {
                 activation_distance: 0.1,
                 stiffness: None,
             }),
-            pinned: None,
+            pinned: Vec::new(),
         };
         let settings = SimulationSettings {
             dt: run.dt,
