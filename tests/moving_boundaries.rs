@@ -302,7 +302,7 @@ fn dragged_body_ends_up_moving_with_the_region<const D: usize>() {
         bar::<D>(2.0, 4),
         material(MaterialModel::NeoHookean, 500.0, 0.3),
         vec![region],
-        0.02,
+        0.1,
         IntegratorKind::BackwardEuler,
     );
     for _ in 0..300 {
