@@ -527,7 +527,7 @@ fn bad_region_keys_are_named_with_their_index() {
         (
             BAR_2D,
             "speed = 1.0\n",
-            "effects.pinned[1]",
+            "effects.pinned[1].speed",
             "unknown field",
         ),
         (
