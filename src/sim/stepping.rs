@@ -26,6 +26,10 @@ impl<const D: usize> Simulation<D> {
         let dt = self.settings.dt;
         let previous = self.positions.clone();
         let end_time = self.time + dt;
+        // The scheme starts from x_n (its history and velocity update), even
+        // where the solve starts elsewhere.
+        self.integrator
+            .begin_step(&self.positions, &self.velocities, dt);
         if let Err(reason) = self.move_pinned(end_time) {
             self.positions = previous;
             return Err(SimError::SolverFailure {
@@ -39,8 +43,6 @@ impl<const D: usize> Simulation<D> {
         for term in &mut self.effect_terms {
             term.begin_step(&self.positions, &self.velocities);
         }
-        self.integrator
-            .begin_step(&self.positions, &self.velocities, dt);
         self.inertia.set_prediction(self.integrator.predicted());
         let weight = self.integrator.potential_weight(dt);
         let mut terms: Vec<(&dyn EnergyTerm<D>, f64)> = vec![(&self.inertia, 1.0)];
@@ -101,10 +103,14 @@ impl<const D: usize> Simulation<D> {
         Ok(stats)
     }
 
-    /// Puts every pinned vertex on its path at time `t`. A region that moves
-    /// displaces its vertices before the solve, and the line search's
-    /// guards need a feasible start: a move that puts a vertex on or below
-    /// the ground or makes an element's `J <= 0` is refused with the reason.
+    /// Puts every pinned vertex on its path at time `t`: the start of the
+    /// solve. A region that moves displaces its vertices before the solve,
+    /// and the line search's guards need a feasible start. When the free
+    /// vertices at `x_n` would leave an element with `J <= 0`, the solve
+    /// starts from the scheme's prediction `x~` for the free vertices
+    /// instead (any feasible start is valid: the minimiser does not depend
+    /// on it). A move that puts a pinned vertex on or below the ground, or
+    /// that inverts an element from both starts, is refused with the reason.
     fn move_pinned(&mut self, t: f64) -> Result<(), String> {
         let moving = self.motions.iter().any(|m| m.is_moving_at(self.time));
         if !moving {
@@ -127,15 +133,32 @@ impl<const D: usize> Simulation<D> {
             ));
         }
         let j = self.elasticity.min_volume_ratio(&self.positions);
-        if !(j > 0.0) {
-            return Err(format!(
-                "the prescribed motion of the pinned vertices to t = {t:.6} s inverts an \
-                 element before the solve (smallest volume ratio J = {j}): the pinned \
-                 regions move too far in one step for the free vertices next to them; \
-                 use a smaller time step or a slower motion"
-            ));
+        if j > 0.0 {
+            return Ok(());
         }
-        Ok(())
+        // The free vertices at x_n leave an element next to a region
+        // inverted: start the solve from the scheme's prediction instead (the
+        // free vertices carried along by their velocity), if that is feasible.
+        let predicted = self.integrator.predicted();
+        for (v, free) in self.hessian.free_index().iter().enumerate() {
+            if free.is_some() {
+                self.positions[v] = predicted[v];
+            }
+        }
+        let above_ground = self
+            .ground_height
+            .is_none_or(|h| self.positions.iter().all(|x| x[UP_AXIS] > h));
+        let j_predicted = self.elasticity.min_volume_ratio(&self.positions);
+        if above_ground && j_predicted > 0.0 {
+            return Ok(());
+        }
+        Err(format!(
+            "the prescribed motion of the pinned vertices to t = {t:.6} s inverts an \
+             element before the solve (smallest volume ratio J = {j}, and {j_predicted} \
+             with the free vertices at their predicted positions): the pinned regions \
+             move too far in one step for the free vertices next to them; use a smaller \
+             time step or a slower motion"
+        ))
     }
 
     /// Advances `substeps` steps and summarises them as one output frame.
