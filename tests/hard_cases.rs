@@ -291,12 +291,12 @@ fn check(first: &CaseRun, again: &CaseRun, failures: &mut Vec<String>) {
         }
     }
     for (f, gap) in first.values("min_height").iter().enumerate() {
-        if !(*gap > 0.0) {
+        if gap.is_nan() || *gap <= 0.0 {
             failures.push(format!("{name}: frame {f}: ground gap {gap}"));
         }
     }
     for (f, j) in first.values("min_volume_ratio").iter().enumerate() {
-        if !(*j > 0.0) {
+        if j.is_nan() || *j <= 0.0 {
             failures.push(format!("{name}: frame {f}: J = {j}"));
         }
     }

@@ -13,7 +13,6 @@
 #[macro_use]
 mod support;
 
-use elasto::energy::EnergyTerm;
 use elasto::integrator::IntegratorKind;
 use elasto::material::{LameParameters, Material, MaterialModel, YoungPoisson};
 use elasto::math::{Vector, Vector3};
