@@ -569,3 +569,66 @@ fn bad_region_keys_are_named_with_their_index() {
     };
     assert_eq!(d.key.as_deref(), Some("effects.pinned[1]"), "{d}");
 }
+
+/// A body's own pinned region (`[[bodies]]`' `pinned`) takes the same
+/// motion: the second body's left end follows its path while the first
+/// body, pinned still by the effects' region, keeps its pinned vertices at rest.
+#[test]
+fn a_body_region_moves_like_an_effects_region() {
+    use elasto::sim::Body;
+    let v = Vector::<2>::new(0.0, 0.4);
+    let still = Body {
+        mesh: bar::<2>(2.0, 2),
+        material: material(MaterialModel::NeoHookean, 100.0, 0.3),
+        density: 1.0,
+        velocity: Vector::<2>::zeros(),
+        pinned: None,
+    };
+    let moved = Mesh::axis_aligned_box(
+        Vector::<2>::new(0.0, 3.0),
+        Vector::<2>::new(2.0, 4.0),
+        [2, 2],
+    )
+    .unwrap();
+    let dragged = Body {
+        mesh: moved,
+        material: material(MaterialModel::NeoHookean, 100.0, 0.3),
+        density: 1.0,
+        velocity: Vector::<2>::zeros(),
+        pinned: Some(
+            PinRegion::new(Vector::<2>::new(-1.0, 2.5), Vector::<2>::new(1e-9, 5.0)).moving(
+                PinMotion {
+                    velocity: v,
+                    ..PinMotion::default()
+                },
+            ),
+        ),
+    };
+    let effects = Effects {
+        gravity: None,
+        ground: None,
+        pinned: vec![PinRegion::new(
+            Vector::<2>::new(-1.0, -1.0),
+            Vector::<2>::new(1e-9, 1.5),
+        )],
+    };
+    let mut sim = Simulation::with_bodies(
+        vec![still, dragged],
+        effects,
+        SimulationSettings {
+            dt: 0.01,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let pinned = pinned_vertices(&sim);
+    assert_eq!(pinned.len(), 6);
+    for _ in 0..20 {
+        sim.step().unwrap();
+    }
+    let t = sim.time();
+    for (vertex, rest) in pinned {
+        let expected = if rest[1] > 2.0 { rest + v * t } else { rest };
+        assert!((sim.positions()[vertex] - expected).amax() <= round_off(4.0));
+    }
+}
