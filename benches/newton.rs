@@ -40,7 +40,7 @@ fn bench<const D: usize>(cells: [usize; D]) {
             activation_distance: 0.1,
             stiffness: None,
         }),
-        pinned: None,
+        pinned: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: 1.0 / 300.0,

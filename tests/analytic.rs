@@ -166,14 +166,14 @@ fn hanging_bar_tip<const D: usize>(cells_along: usize, cells_across: usize) -> (
     }
     .into();
     // The top row (rest y = 0) is pinned.
-    let pinned = PinRegion {
-        min: Vector::<D>::from_fn(|k, _| if k == 1 { -1e-9 } else { -1.0 }),
-        max: Vector::<D>::from_element(1.0),
-    };
+    let pinned = PinRegion::new(
+        Vector::<D>::from_fn(|k, _| if k == 1 { -1e-9 } else { -1.0 }),
+        Vector::<D>::from_element(1.0),
+    );
     let effects = Effects {
         gravity: Some(unit::<D>(1) * -g),
         ground: None,
-        pinned: Some(pinned),
+        pinned: vec![pinned],
     };
     let settings = SimulationSettings {
         dt: 1e4,

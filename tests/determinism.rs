@@ -25,7 +25,7 @@ fn run<const D: usize>(threads: usize, cells: [usize; D]) -> Vec<Vector<D>> {
                 activation_distance: 0.1,
                 stiffness: None,
             }),
-            pinned: None,
+            pinned: Vec::new(),
         };
         let velocity = Vector::<D>::from_fn(|k, _| if k == 0 { 1.0 } else { -2.0 });
         let mut sim = Simulation::new(

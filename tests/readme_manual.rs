@@ -21,9 +21,16 @@ fn documented_keys() -> BTreeMap<String, BTreeSet<String>> {
                 Some(String::new())
             } else {
                 title
-                    .strip_prefix("`[")
-                    .and_then(|t| t.split_once("]`"))
+                    .strip_prefix("`[[")
+                    .and_then(|t| t.split_once("]]`"))
+                    .or_else(|| title.strip_prefix("`[").and_then(|t| t.split_once("]`")))
                     .map(|(table, _)| table.to_owned())
+                    .or_else(|| {
+                        title
+                            .strip_prefix("`[")
+                            .and_then(|t| t.split_once("]`"))
+                            .map(|(table, _)| table.to_owned())
+                    })
             };
         } else if line.starts_with("## ") {
             current = None;
@@ -50,6 +57,12 @@ fn scene_keys(table: &toml::Table, path: &str, keys: &mut BTreeSet<(String, Stri
                     format!("{path}.{key}")
                 };
                 scene_keys(inner, &inner_path, keys);
+            }
+            // `[[effects.pinned]]`: each region's keys, under `effects.pinned`.
+            toml::Value::Array(items) if path == "effects" && key == "pinned" => {
+                for item in items.iter().filter_map(toml::Value::as_table) {
+                    scene_keys(item, "effects.pinned", keys);
+                }
             }
             _ => {
                 keys.insert((path.to_owned(), key.clone()));
@@ -117,7 +130,11 @@ fn every_flag_of_every_command_is_in_the_readme() {
 fn every_key_of_a_resolved_scene_is_in_its_readme_section() {
     let tmp = tempfile::tempdir().unwrap();
     // The built-in scenes, plus the optional keys they leave out.
-    let runs: [(&str, &[&str]); 7] = [
+    let twist = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/hard/twist-3d.toml");
+    let squash = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/hard/squash-2d.toml");
+    let runs: [(&str, &[&str]); 9] = [
+        (twist, &[]),
+        (squash, &[]),
         ("bunny-drop", &[]),
         ("two-bodies", &[]),
         ("report-drop-2d", &["--set", "render.range=[0.0, 1.0]"]),

@@ -89,8 +89,8 @@ fn minimal_scene_gets_documented_defaults() {
     assert_eq!((c.solver.tolerance, c.solver.max_iterations), (1e-4, 50));
     // Absent effects do not exist.
     assert_eq!(
-        (c.effects.gravity, c.effects.ground, c.effects.pinned),
-        (None, None, None)
+        (c.effects.gravity, c.effects.ground, c.effects.pinned.len()),
+        (None, None, 0)
     );
     assert_eq!([c.render.width, c.render.height], [1280, 720]);
     assert_eq!(c.field, FieldChoice::Scalar(ElementField::EnergyDensity));

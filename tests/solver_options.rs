@@ -19,7 +19,7 @@ fn falling_box(solver: SolverSettings, ground: bool) -> Simulation<2> {
             activation_distance: 0.1,
             stiffness: None,
         }),
-        pinned: None,
+        pinned: Vec::new(),
     };
     Simulation::new(
         mesh,

@@ -59,7 +59,7 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
             activation_distance: 0.05,
             stiffness: None,
         }),
-        pinned: None,
+        pinned: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: case.dt,

@@ -189,7 +189,7 @@ pub(crate) struct RawEffects {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground: Option<RawGround>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub pinned: Option<RawPinned>,
+    pub pinned: Option<RawPinnedList>,
 }
 
 /// `[effects.gravity]`.
@@ -211,12 +211,75 @@ pub(crate) struct RawGround {
     pub kappa: Option<f64>,
 }
 
-/// `[effects.pinned]`.
+/// One `[[effects.pinned]]` region (or `bodies.pinned`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(crate) struct RawPinned {
     pub min: Vec<f64>,
     pub max: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angular_velocity: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until: Option<f64>,
+}
+
+/// `[[effects.pinned]]`: an array of regions, or (the older form) one
+/// `[effects.pinned]` table, read as an array of one. Written back as an
+/// array.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub(crate) struct RawPinnedList {
+    pub regions: Vec<RawPinned>,
+    /// Whether the file gave one table (`[effects.pinned]`): its keys are then
+    /// named `effects.pinned.min`, not `effects.pinned[0].min`.
+    pub single_table: bool,
+}
+
+impl Serialize for RawPinnedList {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        self.regions.serialize(serializer)
+    }
+}
+
+impl<'de> Deserialize<'de> for RawPinnedList {
+    fn deserialize<De: serde::Deserializer<'de>>(deserializer: De) -> Result<Self, De::Error> {
+        struct Regions;
+        impl<'de> serde::de::Visitor<'de> for Regions {
+            type Value = RawPinnedList;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an array of tables ([[effects.pinned]]) or a table")
+            }
+            fn visit_map<M: serde::de::MapAccess<'de>>(
+                self,
+                map: M,
+            ) -> Result<Self::Value, M::Error> {
+                let region =
+                    RawPinned::deserialize(serde::de::value::MapAccessDeserializer::new(map))?;
+                Ok(RawPinnedList {
+                    regions: vec![region],
+                    single_table: true,
+                })
+            }
+            fn visit_seq<S: serde::de::SeqAccess<'de>>(
+                self,
+                seq: S,
+            ) -> Result<Self::Value, S::Error> {
+                let regions = Vec::<RawPinned>::deserialize(
+                    serde::de::value::SeqAccessDeserializer::new(seq),
+                )?;
+                Ok(RawPinnedList {
+                    regions,
+                    single_table: false,
+                })
+            }
+        }
+        deserializer.deserialize_any(Regions)
+    }
 }
 
 /// Colouring fields.

@@ -540,7 +540,7 @@ impl Scene {
 
     /// Names of the effects that exist (`gravity`, `ground`, `pinned`).
     pub fn effect_names(&self) -> Vec<&'static str> {
-        let (g, gr, p) = common!(self, c => (c.effects.gravity.is_some(), c.effects.ground.is_some(), c.effects.pinned.is_some()));
+        let (g, gr, p) = common!(self, c => (c.effects.gravity.is_some(), c.effects.ground.is_some(), !c.effects.pinned.is_empty()));
         [(g, "gravity"), (gr, "ground"), (p, "pinned")]
             .into_iter()
             .filter(|(on, _)| *on)

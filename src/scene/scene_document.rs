@@ -304,6 +304,22 @@ fn path_at(table: &DeTable<'_>, span: &Range<usize>, prefix: &mut Vec<String>) -
         prefix.push(key.get_ref().to_string());
         let inner = match value.get_ref() {
             DeValue::Table(inner) => path_at(inner, span, prefix),
+            // `[[effects.pinned]]`: item `i` is `effects.pinned[i]`.
+            DeValue::Array(items) => items.iter().enumerate().find_map(|(i, item)| {
+                let DeValue::Table(inner) = item.get_ref() else {
+                    return None;
+                };
+                let name = format!("{}[{i}]", key.get_ref());
+                let last = prefix.len() - 1;
+                let whole = std::mem::replace(&mut prefix[last], name);
+                let found = path_at(inner, span, prefix).or_else(|| {
+                    let s = item.span();
+                    (s.start <= span.start && span.end <= s.end && s != (0..0))
+                        .then(|| prefix.join("."))
+                });
+                prefix[last] = whole;
+                found
+            }),
             _ => None,
         };
         if inner.is_some() {

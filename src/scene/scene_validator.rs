@@ -9,7 +9,7 @@
 use super::SceneError;
 use super::raw_scene::{
     FieldName, Generator, Method, RawBody, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
-    RawPinned, RawRender, RawRotate, RawScene, RawSolver, RawTime,
+    RawPinned, RawPinnedList, RawRender, RawRotate, RawScene, RawSolver, RawTime,
 };
 use super::scene_config::{
     BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
@@ -23,10 +23,10 @@ use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
 use crate::energy::ElementField;
 use crate::material::{LameParameters, YoungPoisson};
-use crate::math::{UP_AXIS, Vector};
+use crate::math::{UP_AXIS, Vector, Vector3};
 use crate::mesh_io::{ImportOptions, load_mesh};
 use crate::render::{Camera, Colouring, RenderSettings};
-use crate::sim::{Effects, Ground, PinRegion};
+use crate::sim::{Effects, Ground, PinMotion, PinRegion};
 use crate::solver::{SolverMethod, SolverSettings};
 use std::path::{Path, PathBuf};
 
@@ -194,7 +194,9 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         ))
     }
 
-    /// A pinned box `min`..`max` at `key` (`effects.pinned`, `pinned`).
+    /// A pinned box `min`..`max` at `key` (`effects.pinned[i]`, `pinned`)
+    /// and its motion (`velocity`, `angular_velocity`, `axis`, `center`,
+    /// `until`).
     fn pin_region<const D: usize>(&self, key: &str, p: &RawPinned) -> VResult<PinRegion<D>> {
         let min = self.vector::<D>(&format!("{key}.min"), &p.min)?;
         let max = self.vector::<D>(&format!("{key}.max"), &p.max)?;
@@ -208,7 +210,78 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 ),
             ));
         }
-        Ok(PinRegion { min, max })
+        let region = PinRegion::new(min, max);
+        let mut motion = PinMotion::<D> {
+            center: region.box_center(),
+            ..PinMotion::default()
+        };
+        if let Some(v) = &p.velocity {
+            motion.velocity = self.vector::<D>(&format!("{key}.velocity"), v)?;
+        }
+        if let Some(w) = p.angular_velocity {
+            if !w.is_finite() {
+                return Err(self.err(
+                    &format!("{key}.angular_velocity"),
+                    format!("must be finite (rad/s), got {}", num(w)),
+                ));
+            }
+            motion.angular_velocity = w;
+        }
+        let rotates = p.angular_velocity.is_some();
+        for (name, given) in [("axis", p.axis.is_some()), ("center", p.center.is_some())] {
+            if given && !rotates {
+                return Err(self.err(
+                    &format!("{key}.{name}"),
+                    format!("has no effect without {key}.angular_velocity; give the angular velocity (rad/s) or remove it"),
+                ));
+            }
+        }
+        match (&p.axis, D) {
+            (Some(_), 2) => {
+                return Err(self.err(
+                    &format!("{key}.axis"),
+                    "is a 3D key: in 2D a pinned region rotates in the plane \
+                     (counter-clockwise for angular_velocity > 0); remove it",
+                ));
+            }
+            (Some(a), _) => {
+                let axis = self.vector::<3>(&format!("{key}.axis"), a)?;
+                let norm = axis.norm();
+                if !(norm > 0.0 && norm.is_finite()) {
+                    return Err(self.err(
+                        &format!("{key}.axis"),
+                        format!("must be a non-zero direction, got {}", nums(a)),
+                    ));
+                }
+                motion.axis = axis / norm;
+            }
+            (None, 3) if rotates => {
+                return Err(self.err(
+                    &format!("{key}.axis"),
+                    format!("is required in 3D with {key}.angular_velocity: the direction to rotate about, e.g. [1, 0, 0]"),
+                ));
+            }
+            (None, _) => motion.axis = Vector3::z(),
+        }
+        if let Some(c) = &p.center {
+            motion.center = self.vector::<D>(&format!("{key}.center"), c)?;
+        }
+        if let Some(until) = p.until {
+            if !(until >= 0.0 && until.is_finite()) {
+                return Err(self.err(
+                    &format!("{key}.until"),
+                    format!("must be a finite time >= 0 (s), got {}", num(until)),
+                ));
+            }
+            if p.velocity.is_none() && !rotates {
+                return Err(self.err(
+                    &format!("{key}.until"),
+                    format!("has no effect on a region that does not move; give {key}.velocity or {key}.angular_velocity, or remove it"),
+                ));
+            }
+            motion.until = Some(until);
+        }
+        Ok(region.moving(motion))
     }
 
     /// The scene's name: it names the folder `out/NAME`, so it must be one
@@ -950,31 +1023,46 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 kappa,
             });
         }
-        if let Some(p) = &raw.pinned {
-            let PinRegion { min, max } = self.pin_region::<D>("effects.pinned", p)?;
-            // A vertex is pinned when it lies in the box (inclusive) at rest.
-            let region = PinRegion { min, max };
-            let (mut catches, mut holds_all) = (false, true);
-            for body in bodies {
-                let (c, h) = body.mesh.vertices_in(&region);
-                catches |= c;
-                holds_all &= h;
-            }
-            if !catches {
+        if let Some(list) = &raw.pinned {
+            if list.regions.is_empty() {
                 return Err(self.err(
                     "effects.pinned",
-                    "the region from `min` to `max` contains no mesh vertex at rest; widen it to catch the vertices to hold",
+                    "is an empty array: give at least one [[effects.pinned]] region, or remove it",
                 ));
             }
-            if holds_all {
-                return Err(self.err(
-                    "effects.pinned",
-                    "the region from `min` to `max` holds every mesh vertex: nothing could move; \
-                     narrow it to the vertices to hold",
-                ));
+            for (i, p) in list.regions.iter().enumerate() {
+                let key = if list.single_table {
+                    "effects.pinned".to_owned()
+                } else {
+                    format!("effects.pinned[{i}]")
+                };
+                let region = self.pin_region::<D>(&key, p)?;
+                // A vertex is pinned when it lies in the box (inclusive) at rest.
+                let (mut catches, mut holds_all) = (false, true);
+                for body in bodies {
+                    let (c, h) = body.mesh.vertices_in(&region);
+                    catches |= c;
+                    holds_all &= h;
+                }
+                if !catches {
+                    return Err(self.err(
+                        &key,
+                        "the region from `min` to `max` contains no mesh vertex at rest; widen it to catch the vertices to hold",
+                    ));
+                }
+                if holds_all {
+                    return Err(self.err(
+                        &key,
+                        "the region from `min` to `max` holds every mesh vertex: nothing could move; \
+                         narrow it to the vertices to hold",
+                    ));
+                }
+                effects.pinned.push(region);
             }
-            effects.pinned = Some(PinRegion { min, max });
-            resolved.pinned = Some(p.clone());
+            resolved.pinned = Some(RawPinnedList {
+                regions: list.regions.clone(),
+                single_table: false,
+            });
         }
         Ok((effects, resolved))
     }

@@ -1,5 +1,6 @@
 //! The effects a scene asks for; an absent effect does not exist in the simulation.
 
+use super::PinRegion;
 use crate::math::Vector;
 
 /// A flat ground `x[UP_AXIS] = height` with the report's log barrier.
@@ -14,15 +15,6 @@ pub struct Ground {
     pub stiffness: Option<f64>,
 }
 
-/// An axis-aligned box: every vertex inside it at rest is pinned (Dirichlet).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PinRegion<const D: usize> {
-    /// Lower corner.
-    pub min: Vector<D>,
-    /// Upper corner.
-    pub max: Vector<D>,
-}
-
 /// The set of effects acting on the body besides inertia and elasticity.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Effects<const D: usize> {
@@ -30,8 +22,10 @@ pub struct Effects<const D: usize> {
     pub gravity: Option<Vector<D>>,
     /// Ground contact; `None` means no barrier term and no contact checks.
     pub ground: Option<Ground>,
-    /// Pinned region; `None` means every vertex is free.
-    pub pinned: Option<PinRegion<D>>,
+    /// Pinned regions (`[[effects.pinned]]`), each with its path; empty
+    /// means every vertex is free. A vertex in several regions follows the
+    /// first.
+    pub pinned: Vec<PinRegion<D>>,
 }
 
 impl<const D: usize> Default for Effects<D> {
@@ -39,7 +33,7 @@ impl<const D: usize> Default for Effects<D> {
         Self {
             gravity: None,
             ground: None,
-            pinned: None,
+            pinned: Vec::new(),
         }
     }
 }

@@ -12,16 +12,20 @@
 //! where `U` is the sum of the potential terms the scene asks for (elasticity,
 //! gravity, the ground barrier). Its stationarity condition
 //! `M (x - x_pred) / dt^2 = -grad U(x)` is exactly backward Euler. Pinned
-//! vertices are removed from the unknowns and stay at their rest positions.
+//! vertices are removed from the unknowns; at the start of each step they are
+//! put on their region's prescribed path (`pin_region.rs`) and, after the
+//! solve, given the path's velocity.
 //!
 //! Files: `simulation.rs` (the state and its measures), `body.rs` (one body
-//! of a scene), `simulation_setup.rs` (joining the bodies' meshes and
+//! of a scene), `pin_region.rs` (a pinned region and its rigid path),
+//! `simulation_setup.rs` (joining the bodies' meshes and
 //! building the list of terms from the scene's effects), `effects.rs`,
 //! `stepping.rs` (one step, one frame), `stats.rs` (what a step reports),
 //! `sim_error.rs`.
 
 mod body;
 mod effects;
+mod pin_region;
 mod sim_error;
 mod simulation;
 mod simulation_setup;
@@ -29,7 +33,8 @@ mod stats;
 mod stepping;
 
 pub use body::Body;
-pub use effects::{Effects, Ground, PinRegion};
+pub use effects::{Effects, Ground};
+pub use pin_region::{PinMotion, PinRegion, rotate};
 pub use sim_error::SimError;
 pub use simulation::Simulation;
 pub use stats::{EnergyBreakdown, FrameStats, StepStats};

@@ -1,6 +1,6 @@
 //! The simulation state (mesh, masses, positions, velocities, time), its energy terms and integrator, and the measures of a state.
 
-use super::{EnergyBreakdown, FrameStats, SimulationSettings};
+use super::{EnergyBreakdown, FrameStats, PinMotion, SimulationSettings};
 use crate::assembly::SparseHessian;
 use crate::energy::{BodyElasticity, ElementField, EnergyTerm, Inertia};
 use crate::integrator::TimeIntegrator;
@@ -30,6 +30,18 @@ pub struct Simulation<const D: usize> {
     pub(super) barrier_stiffness: Option<f64>,
     pub(super) ground_height: Option<f64>,
     pub(super) hessian: SparseHessian<D>,
+    /// The motions of the pinned regions (the effects' first, then the bodies').
+    pub(super) motions: Vec<PinMotion<D>>,
+    /// Every pinned vertex with its rest position and motion.
+    pub(super) pinned: Vec<PinnedVertex<D>>,
+}
+
+/// A pinned vertex: it follows `motions[motion]` from its rest position.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct PinnedVertex<const D: usize> {
+    pub vertex: usize,
+    pub rest: Vector<D>,
+    pub motion: usize,
 }
 
 impl<const D: usize> Simulation<D> {

@@ -2,11 +2,15 @@
 //!
 //! Elasticity is always a term; gravity and the ground barrier exist only
 //! when the scene asks for them (an absent effect has no term, so it costs
-//! nothing). Pinned vertices are eliminated from the unknowns here, once.
+//! nothing). Pinned vertices are eliminated from the unknowns here, once;
+//! each keeps its rest position and the index of the motion it follows
+//! (the effects' regions first, then the bodies'), and starts with its
+//! path's velocity.
 //! The integrator gets the initial acceleration `a_0 = -M^{-1} grad U(x_0)`
 //! here (Newmark needs it; the other schemes ignore it).
 
-use super::{Body, Effects, SimError, Simulation, SimulationSettings};
+use super::simulation::PinnedVertex;
+use super::{Body, Effects, PinMotion, PinRegion, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
 use crate::energy::{BodyElasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use crate::material::Material;
@@ -112,9 +116,9 @@ impl<const D: usize> Simulation<D> {
                 format!("must be positive and finite, got {step}"),
             ));
         }
-        let inside = |r: &super::PinRegion<D>, x: &Vector<D>| {
-            (0..D).all(|k| x[k] >= r.min[k] && x[k] <= r.max[k])
-        };
+        for (label, region) in pin_labels(&effects, &bodies) {
+            check_motion(&label, &region.motion)?;
+        }
         // Per vertex: its body's index; masses and rest positions in body order.
         let mut owner = Vec::new();
         let mut masses = Vec::new();
@@ -123,7 +127,11 @@ impl<const D: usize> Simulation<D> {
         for (b, body) in bodies.iter().enumerate() {
             let offset = positions.len();
             if let Some(region) = &body.pinned
-                && !body.mesh.rest_positions().iter().any(|x| inside(region, x))
+                && !body
+                    .mesh
+                    .rest_positions()
+                    .iter()
+                    .any(|x| region.contains(x))
             {
                 return Err(invalid(
                     "pinned",
@@ -139,7 +147,7 @@ impl<const D: usize> Simulation<D> {
                     .map(|s| s.iter().map(|v| v + offset).collect::<Vec<_>>()),
             );
         }
-        let pins: Vec<Option<super::PinRegion<D>>> = bodies.iter().map(|b| b.pinned).collect();
+        let pins: Vec<Option<PinRegion<D>>> = bodies.iter().map(|b| b.pinned).collect();
         let body_velocities: Vec<Vector<D>> = bodies.iter().map(|b| b.velocity).collect();
         let (mesh, elasticity) = if bodies.len() == 1 {
             let body = bodies.into_iter().next().expect("one body");
@@ -161,41 +169,71 @@ impl<const D: usize> Simulation<D> {
             })?;
             (mesh, elasticity)
         };
-        let pinned = |v: usize, x: &Vector<D>| {
-            effects.pinned.is_some_and(|r| inside(&r, x))
-                || pins[owner[v]].is_some_and(|r| inside(&r, x))
-        };
-        let mut free_count = 0;
-        let free_index: Vec<Option<usize>> = positions
+        // The motions: the effects' regions first, then each body's.
+        let mut motions: Vec<PinMotion<D>> = effects.pinned.iter().map(|r| r.motion).collect();
+        let body_motion: Vec<Option<usize>> = pins
             .iter()
-            .enumerate()
-            .map(|(v, x)| {
-                (!pinned(v, x)).then(|| {
-                    free_count += 1;
-                    free_count - 1
+            .map(|p| {
+                p.map(|r| {
+                    motions.push(r.motion);
+                    motions.len() - 1
                 })
             })
             .collect();
-        if effects.pinned.is_some() && free_count == positions.len() {
-            return Err(invalid("pinned", "the pinned region holds no vertex"));
+        // A vertex follows the first region (in that order) that holds it at rest.
+        let motion_of = |v: usize, x: &Vector<D>| {
+            effects
+                .pinned
+                .iter()
+                .position(|r| r.contains(x))
+                .or_else(|| {
+                    body_motion[owner[v]].filter(|_| pins[owner[v]].is_some_and(|r| r.contains(x)))
+                })
+        };
+        if let Some(i) = effects
+            .pinned
+            .iter()
+            .position(|r| !positions.iter().any(|x| r.contains(x)))
+        {
+            return Err(invalid(
+                "pinned",
+                format!("the pinned region effects.pinned[{i}] holds no vertex"),
+            ));
         }
+        let mut free_count = 0;
+        let mut pinned = Vec::new();
+        let free_index: Vec<Option<usize>> = positions
+            .iter()
+            .enumerate()
+            .map(|(v, x)| match motion_of(v, x) {
+                Some(motion) => {
+                    pinned.push(PinnedVertex {
+                        vertex: v,
+                        rest: *x,
+                        motion,
+                    });
+                    None
+                }
+                None => {
+                    free_count += 1;
+                    Some(free_count - 1)
+                }
+            })
+            .collect();
         if free_count == 0 {
             return Err(invalid(
                 "pinned",
                 "every vertex is pinned: nothing can move",
             ));
         }
-        let velocities: Vec<Vector<D>> = free_index
-            .iter()
-            .enumerate()
-            .map(|(v, f)| {
-                if f.is_some() {
-                    body_velocities[owner[v]]
-                } else {
-                    Vector::<D>::zeros()
-                }
-            })
+        // Free vertices start with their body's velocity, pinned ones with
+        // their path's.
+        let mut velocities: Vec<Vector<D>> = (0..positions.len())
+            .map(|v| body_velocities[owner[v]])
             .collect();
+        for p in &pinned {
+            velocities[p.vertex] = motions[p.motion].velocity_of(&p.rest, 0.0);
+        }
         let mut effect_terms: Vec<Box<dyn EnergyTerm<D>>> = Vec::new();
         if let Some(g) = effects.gravity {
             effect_terms.push(Box::new(Gravity::new(masses.clone(), g)));
@@ -273,6 +311,57 @@ impl<const D: usize> Simulation<D> {
             steps: 0,
             settings,
             hessian,
+            motions,
+            pinned,
         })
     }
+}
+
+/// Each pinned region with its name for messages: `effects.pinned[i]`, then
+/// `the pinned region of body b`.
+fn pin_labels<const D: usize>(
+    effects: &Effects<D>,
+    bodies: &[Body<D>],
+) -> Vec<(String, PinRegion<D>)> {
+    let own = effects
+        .pinned
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (format!("effects.pinned[{i}]"), *r));
+    let of_bodies = bodies.iter().enumerate().filter_map(|(b, body)| {
+        body.pinned
+            .map(|r| (format!("the pinned region of body {b}"), r))
+    });
+    own.chain(of_bodies).collect()
+}
+
+/// A motion's numbers must be finite, its axis a unit vector and `until >= 0`.
+fn check_motion<const D: usize>(label: &str, motion: &PinMotion<D>) -> Result<(), SimError> {
+    let finite = motion.velocity.iter().all(|v| v.is_finite())
+        && motion.angular_velocity.is_finite()
+        && motion.center.iter().all(|v| v.is_finite());
+    if !finite {
+        return Err(invalid(
+            "pinned",
+            format!("{label}: velocity, angular velocity and centre must be finite"),
+        ));
+    }
+    if D == 3 && motion.angular_velocity != 0.0 && (motion.axis.norm() - 1.0).abs() > 1e-12 {
+        return Err(invalid(
+            "pinned",
+            format!(
+                "{label}: the rotation axis must be a unit vector, got {:?}",
+                motion.axis.as_slice()
+            ),
+        ));
+    }
+    if let Some(until) = motion.until
+        && !(until >= 0.0 && until.is_finite())
+    {
+        return Err(invalid(
+            "pinned",
+            format!("{label}: `until` must be a finite time >= 0, got {until}"),
+        ));
+    }
+    Ok(())
 }

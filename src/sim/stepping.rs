@@ -1,7 +1,8 @@
-//! Advancing a simulation: one step is a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential, and the integrator's velocity update.
+//! Advancing a simulation: one step puts the pinned vertices on their paths, then runs a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential, and the integrator's velocity update.
 
 use super::{FrameStats, SimError, Simulation, StepStats};
 use crate::energy::EnergyTerm;
+use crate::math::UP_AXIS;
 use crate::solver::{Objective, SolverMethod, SolverStats, gradient_descent, newton};
 use std::time::Instant;
 
@@ -24,13 +25,24 @@ impl<const D: usize> Simulation<D> {
     fn solve_step(&mut self) -> Result<SolverStats, SimError> {
         let dt = self.settings.dt;
         let previous = self.positions.clone();
+        let end_time = self.time + dt;
+        // The scheme starts from x_n (its history and velocity update), even
+        // where the solve starts elsewhere.
+        self.integrator
+            .begin_step(&self.positions, &self.velocities, dt);
+        if let Err(reason) = self.move_pinned(end_time) {
+            self.positions = previous;
+            return Err(SimError::SolverFailure {
+                step: self.steps,
+                time: self.time,
+                reason,
+            });
+        }
         self.elasticity
             .begin_step(&self.positions, &self.velocities);
         for term in &mut self.effect_terms {
             term.begin_step(&self.positions, &self.velocities);
         }
-        self.integrator
-            .begin_step(&self.positions, &self.velocities, dt);
         self.inertia.set_prediction(self.integrator.predicted());
         let weight = self.integrator.potential_weight(dt);
         let mut terms: Vec<(&dyn EnergyTerm<D>, f64)> = vec![(&self.inertia, 1.0)];
@@ -80,9 +92,73 @@ impl<const D: usize> Simulation<D> {
         }
         self.integrator
             .end_step(&self.positions, &mut self.velocities, dt);
+        // Pinned vertices move at their path's velocity (the schemes' own
+        // update would give a secant); they are not unknowns, so their
+        // predictions never enter a solve.
+        for p in &self.pinned {
+            self.velocities[p.vertex] = self.motions[p.motion].velocity_of(&p.rest, end_time);
+        }
         self.time += dt;
         self.steps += 1;
         Ok(stats)
+    }
+
+    /// Puts every pinned vertex on its path at time `t`: the start of the
+    /// solve. A region that moves displaces its vertices before the solve,
+    /// and the line search's guards need a feasible start. When the free
+    /// vertices at `x_n` would leave an element with `J <= 0`, the solve
+    /// starts from the scheme's prediction `x~` for the free vertices
+    /// instead (any feasible start is valid: the minimiser does not depend
+    /// on it). A move that puts a pinned vertex on or below the ground, or
+    /// that inverts an element from both starts, is refused with the reason.
+    fn move_pinned(&mut self, t: f64) -> Result<(), String> {
+        let moving = self.motions.iter().any(|m| m.is_moving_at(self.time));
+        if !moving {
+            return Ok(());
+        }
+        for p in &self.pinned {
+            self.positions[p.vertex] = self.motions[p.motion].position(&p.rest, t);
+        }
+        if let Some(ground) = self.ground_height
+            && let Some(p) = self
+                .pinned
+                .iter()
+                .find(|p| !(self.positions[p.vertex][UP_AXIS] > ground))
+        {
+            return Err(format!(
+                "the prescribed motion of the pinned vertices puts vertex {} at height {} \
+                 at t = {t:.6} s, on or below the ground at {ground}: a pinned region must \
+                 not be driven into the ground",
+                p.vertex, self.positions[p.vertex][UP_AXIS]
+            ));
+        }
+        let j = self.elasticity.min_volume_ratio(&self.positions);
+        if j > 0.0 {
+            return Ok(());
+        }
+        // The free vertices at x_n leave an element next to a region
+        // inverted: start the solve from the scheme's prediction instead (the
+        // free vertices carried along by their velocity), if that is feasible.
+        let predicted = self.integrator.predicted();
+        for (v, free) in self.hessian.free_index().iter().enumerate() {
+            if free.is_some() {
+                self.positions[v] = predicted[v];
+            }
+        }
+        let above_ground = self
+            .ground_height
+            .is_none_or(|h| self.positions.iter().all(|x| x[UP_AXIS] > h));
+        let j_predicted = self.elasticity.min_volume_ratio(&self.positions);
+        if above_ground && j_predicted > 0.0 {
+            return Ok(());
+        }
+        Err(format!(
+            "the prescribed motion of the pinned vertices to t = {t:.6} s inverts an \
+             element before the solve (smallest volume ratio J = {j}, and {j_predicted} \
+             with the free vertices at their predicted positions): the pinned regions \
+             move too far in one step for the free vertices next to them; use a smaller \
+             time step or a slower motion"
+        ))
     }
 
     /// Advances `substeps` steps and summarises them as one output frame.

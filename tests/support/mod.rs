@@ -75,7 +75,7 @@ pub fn report_drop(release_height: f64, a: f64, settings: SimulationSettings) ->
             activation_distance: a,
             stiffness: None,
         }),
-        pinned: None,
+        pinned: Vec::new(),
     };
     Simulation::new(
         mesh,
