@@ -1,7 +1,16 @@
 //! Sparse Cholesky `H = L L^T` with faer: one symbolic analysis per pattern, a numeric refactorisation per Newton iteration.
+//!
+//! The elimination order is the caller's (the nested dissection of
+//! [`super::nested_dissection`], through `SymmetricOrdering::Custom`), and
+//! the factorisation is forced supernodal: with a nested-dissection order
+//! the separators become dense blocks, which faer factorises with dense
+//! kernels (the simplicial variant works one column at a time). Without an
+//! order (an empty matrix), faer's AMD is used.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
 };
@@ -23,19 +32,37 @@ pub struct SparseCholesky {
 }
 
 impl SparseCholesky {
+    /// Stored non-zeros of the factor `L` (its storage is 8 bytes each).
+    pub fn factor_non_zeros(&self) -> usize {
+        self.factor_values.len()
+    }
+}
+
+impl SparseCholesky {
     /// Analyses the `dofs x dofs` lower-triangle pattern `(col_ptr, row_idx)`
-    /// (AMD ordering).
+    /// for the elimination order `order = (forward, inverse)` (`forward[k]`
+    /// is the unknown eliminated `k`-th; `None`: AMD).
     pub fn analyse(
         dofs: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
+        order: Option<(&[usize], &[usize])>,
     ) -> Result<Self, FactorisationError> {
         let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx);
+        let ordering = match order {
+            Some((forward, inverse)) => {
+                SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, dofs))
+            }
+            None => SymmetricOrdering::Amd,
+        };
         let symbolic = factorize_symbolic_cholesky(
             pattern,
             Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
+            ordering,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
         )
         .map_err(|e| FactorisationError(format!("{e:?}")))?;
         let factor_values = vec![0.0; symbolic.len_val()];

@@ -8,6 +8,7 @@
 //! See the [module documentation](super) for the gather and for how the
 //! pattern grows for terms that couple vertices sharing no element.
 
+use super::nested_dissection::{VertexGraph, expand_to_unknowns, nested_dissection};
 use super::{FactorisationError, SparseCholesky};
 use crate::math::{Matrix, Vector};
 use crate::mesh::Mesh;
@@ -16,6 +17,11 @@ use rayon::prelude::*;
 
 /// Entries per rayon task in the gather.
 const ENTRIES_PER_TASK: usize = 4096;
+/// Below this many stored entries the gather runs on the calling thread: a
+/// rayon dispatch (waking a worker, tens of microseconds) would cost more
+/// than the sums. The result is the same either way (each entry's sum has a
+/// fixed order).
+const PARALLEL_MIN_ENTRIES: usize = 4 * ENTRIES_PER_TASK;
 
 /// Marker for an upper-triangle entry of a diagonal block (not stored).
 const NOT_STORED: usize = usize::MAX;
@@ -32,6 +38,9 @@ pub struct SparseHessian<const D: usize> {
     diagonal_block_entries: Vec<usize>,
     /// Element Hessian slots, `(D (D+1))^2` per element, column-major.
     element_buffer: Vec<f64>,
+    /// Element gradient slots, `D + 1` vectors per element (the energy terms
+    /// fill them in the same pass as the Hessian slots and sum them per vertex).
+    element_gradients: Vec<Vector<D>>,
     /// For each stored value, its sources in `element_buffer` (CSR).
     gather_offsets: Vec<usize>,
     gather_sources: Vec<usize>,
@@ -123,7 +132,14 @@ impl<const D: usize> SparseHessian<D> {
             .map(|(_, source)| source)
             .collect();
 
-        let cholesky = SparseCholesky::analyse(dofs, &col_ptr, &row_idx)?;
+        let vertex_order = free_vertex_order(mesh, &free_index, free_count);
+        let (forward, inverse) = expand_to_unknowns::<D>(&vertex_order);
+        let cholesky = SparseCholesky::analyse(
+            dofs,
+            &col_ptr,
+            &row_idx,
+            (dofs > 0).then_some((&forward[..], &inverse[..])),
+        )?;
         let values = vec![0.0; row_idx.len()];
         Ok(Self {
             free_index,
@@ -133,6 +149,7 @@ impl<const D: usize> SparseHessian<D> {
             values,
             diagonal_block_entries,
             element_buffer: vec![0.0; mesh.element_count() * size * size],
+            element_gradients: vec![Vector::<D>::zeros(); mesh.element_count() * (D + 1)],
             gather_offsets,
             gather_sources,
             cholesky,
@@ -142,6 +159,11 @@ impl<const D: usize> SparseHessian<D> {
     /// Number of scalar unknowns.
     pub fn dofs(&self) -> usize {
         self.dofs
+    }
+
+    /// Stored non-zeros of the Cholesky factor `L`.
+    pub fn factor_non_zeros(&self) -> usize {
+        self.cholesky.factor_non_zeros()
     }
 
     /// Stored (lower-triangle) non-zeros.
@@ -156,7 +178,7 @@ impl<const D: usize> SparseHessian<D> {
 
     /// Sets every value to zero (the pattern stays).
     pub fn clear(&mut self) {
-        self.values.iter_mut().for_each(|v| *v = 0.0);
+        self.values.fill(0.0);
     }
 
     /// Adds `block` to the diagonal block of `vertex` (ignored for a pinned vertex).
@@ -177,22 +199,34 @@ impl<const D: usize> SparseHessian<D> {
         &mut self.element_buffer
     }
 
-    /// Adds the element slots into the stored values (deterministic, parallel).
+    /// The element Hessian slots (as [`Self::element_buffer_mut`]) and the
+    /// element gradient slots (`D + 1` vectors per element), to fill in one pass.
+    pub fn element_slots_mut(&mut self) -> (&mut [f64], &mut [Vector<D>]) {
+        (&mut self.element_buffer, &mut self.element_gradients)
+    }
+
+    /// Adds the element slots into the stored values (deterministic; in
+    /// parallel for large matrices).
     pub fn gather_element_buffer(&mut self) {
         let (offsets, sources, buffer) = (
             &self.gather_offsets,
             &self.gather_sources,
             &self.element_buffer,
         );
-        self.values
-            .par_iter_mut()
-            .with_min_len(ENTRIES_PER_TASK)
-            .enumerate()
-            .for_each(|(t, value)| {
-                for &source in &sources[offsets[t]..offsets[t + 1]] {
-                    *value += buffer[source];
-                }
-            });
+        let gather = |(t, value): (usize, &mut f64)| {
+            for &source in &sources[offsets[t]..offsets[t + 1]] {
+                *value += buffer[source];
+            }
+        };
+        if self.values.len() < PARALLEL_MIN_ENTRIES {
+            self.values.iter_mut().enumerate().for_each(gather);
+        } else {
+            self.values
+                .par_iter_mut()
+                .with_min_len(ENTRIES_PER_TASK)
+                .enumerate()
+                .for_each(gather);
+        }
     }
 
     /// The full symmetric matrix as dense (for tests and small problems).
@@ -243,4 +277,45 @@ impl<const D: usize> SparseHessian<D> {
         );
         self.cholesky.factor_and_solve(matrix, rhs)
     }
+}
+
+/// The nested-dissection order of the free vertices (by free index), from
+/// their rest positions and the graph of free vertices sharing an element.
+fn free_vertex_order<const D: usize>(
+    mesh: &Mesh<D>,
+    free_index: &[Option<usize>],
+    free_count: usize,
+) -> Vec<usize> {
+    let mut adjacent: Vec<Vec<usize>> = vec![Vec::new(); free_count];
+    for simplex in mesh.simplices() {
+        for &u in simplex {
+            for &w in simplex {
+                if let (Some(fu), Some(fw)) = (free_index[u], free_index[w])
+                    && fu != fw
+                {
+                    adjacent[fu].push(fw);
+                }
+            }
+        }
+    }
+    let mut offsets = Vec::with_capacity(free_count + 1);
+    let mut neighbours = Vec::new();
+    offsets.push(0);
+    for mut list in adjacent {
+        list.sort_unstable();
+        list.dedup();
+        neighbours.extend(list);
+        offsets.push(neighbours.len());
+    }
+    let mut positions = vec![Vector::<D>::zeros(); free_count];
+    for (v, fv) in free_index.iter().enumerate() {
+        if let Some(fv) = fv {
+            positions[*fv] = mesh.rest_positions()[v];
+        }
+    }
+    let graph = VertexGraph {
+        offsets: &offsets,
+        neighbours: &neighbours,
+    };
+    nested_dissection(&graph, &positions)
 }

@@ -97,7 +97,7 @@ mod polynomial;
 mod psd;
 
 pub use polynomial::{Polynomial, first_root_in};
-pub use psd::project_to_psd;
+pub use psd::{project_stress_derivative_to_psd, project_to_psd};
 
 #[cfg(test)]
 mod tests {

@@ -49,8 +49,7 @@ pub fn newton<const D: usize>(
     while stats.iterations < max_iterations {
         stats.iterations += 1;
         let start = Instant::now();
-        objective.gradient(x, &mut gradient);
-        objective.hessian(x, hessian);
+        objective.gradient_and_hessian(x, &mut gradient, hessian);
         stats.times.assembly += start.elapsed();
 
         let start = Instant::now();
