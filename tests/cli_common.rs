@@ -69,6 +69,12 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "min_height",
     "min_volume_ratio",
     "sim_ms",
+    "unconverged_steps",
+    "stalled_steps",
+    "assembly_ms",
+    "factorisation_ms",
+    "solve_ms",
+    "line_search_ms",
 ];
 
 /// A small valid 2D scene file text (falls onto a ground).

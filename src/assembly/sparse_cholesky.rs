@@ -12,7 +12,8 @@ use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::perm::PermRef;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
@@ -78,17 +79,15 @@ impl SparseCholesky {
         })
     }
 
-    /// Factorises `matrix` (same pattern as analysed) and solves
-    /// `matrix x = rhs` in place. Sequential, so results do not depend on the
-    /// thread count.
-    pub fn factor_and_solve(
+    /// Factorises `matrix` (same pattern as analysed), keeping `L` for
+    /// [`Self::solve`]. Sequential, so results do not depend on the thread
+    /// count.
+    pub fn factorise(
         &mut self,
         matrix: SparseColMatRef<'_, usize, f64>,
-        rhs: &mut [f64],
     ) -> Result<(), FactorisationError> {
         let stack = MemStack::new(&mut self.workspace);
-        let llt = self
-            .symbolic
+        self.symbolic
             .factorize_numeric_llt::<f64>(
                 &mut self.factor_values,
                 matrix,
@@ -99,6 +98,13 @@ impl SparseCholesky {
                 Default::default(),
             )
             .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        Ok(())
+    }
+
+    /// Solves `matrix x = rhs` in place with the factor of the last
+    /// successful [`Self::factorise`] (two triangular solves).
+    pub fn solve(&mut self, rhs: &mut [f64]) {
+        let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.factor_values);
         let stack = MemStack::new(&mut self.workspace);
         let n = rhs.len();
         llt.solve_in_place_with_conj(
@@ -107,6 +113,5 @@ impl SparseCholesky {
             Par::Seq,
             stack,
         );
-        Ok(())
     }
 }

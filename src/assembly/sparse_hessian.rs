@@ -261,10 +261,9 @@ impl<const D: usize> SparseHessian<D> {
         }
     }
 
-    /// Factorises the current values (reusing the symbolic factorisation) and
-    /// solves `H x = rhs` in place. Sequential, so results do not depend on
-    /// the thread count.
-    pub fn factor_and_solve(&mut self, rhs: &mut [f64]) -> Result<(), FactorisationError> {
+    /// Factorises the current values (reusing the symbolic factorisation).
+    /// Sequential, so results do not depend on the thread count.
+    pub fn factorise(&mut self) -> Result<(), FactorisationError> {
         let matrix = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(
                 self.dofs,
@@ -275,7 +274,26 @@ impl<const D: usize> SparseHessian<D> {
             ),
             &self.values,
         );
-        self.cholesky.factor_and_solve(matrix, rhs)
+        self.cholesky.factorise(matrix)
+    }
+
+    /// Solves `H x = rhs` in place with the factor of the last successful
+    /// [`Self::factorise`].
+    pub fn solve(&mut self, rhs: &mut [f64]) {
+        self.cholesky.solve(rhs);
+    }
+
+    /// Factorises the current values and solves `H x = rhs` in place.
+    pub fn factor_and_solve(&mut self, rhs: &mut [f64]) -> Result<(), FactorisationError> {
+        self.factorise()?;
+        self.solve(rhs);
+        Ok(())
+    }
+
+    /// The stored lower triangle in compressed columns: `(col_ptr, row_idx,
+    /// values)` (to write the matrix out, e.g. for benchmarks).
+    pub fn lower_triangle(&self) -> (&[usize], &[usize], &[f64]) {
+        (&self.col_ptr, &self.row_idx, &self.values)
     }
 }
 

@@ -30,7 +30,7 @@
 //! element per pass, and `P` and `dP/dF` come from one call to the material.
 
 use crate::material::HyperelasticMaterial;
-use crate::math::{Matrix, Vector, project_stress_derivative_to_psd};
+use crate::math::{Matrix, Vector, project_isotropic_stress_derivative_to_psd};
 use crate::mesh::{Mesh, RestElement};
 
 /// Largest `D^2` (3D): the stress derivative fits in `MAX_STRAIN^2` numbers.
@@ -90,7 +90,8 @@ pub fn element_gradient_and_hessian<const D: usize, M: HyperelasticMaterial<D>>(
         }
     }
     if project {
-        project_stress_derivative_to_psd::<D>(&mut a_flat[..strain * strain]);
+        // Every material here is isotropic: the block-diagonal projection.
+        project_isotropic_stress_derivative_to_psd::<D>(&mut a_flat[..strain * strain], &f);
     }
 
     // H[(a k), (b l)] = weight sum_j (sum_n A[(k j), (l n)] g_b[n]) g_a[j].

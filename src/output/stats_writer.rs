@@ -29,6 +29,7 @@ const TRAILING_COLUMNS: &[&str] = &[
     "stalled_steps",
     "assembly_ms",
     "factorisation_ms",
+    "solve_ms",
     "line_search_ms",
 ];
 
@@ -46,8 +47,8 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// smallest `J = det F` over the elements; `sim_ms`: wall time spent
 /// simulating the frame; `unconverged_steps`: steps that hit the iteration
 /// cap; `stalled_steps`: steps whose line search stalled before the
-/// tolerance; `assembly_ms`, `factorisation_ms`, `line_search_ms`: the wall
-/// time of each solver phase.
+/// tolerance; `assembly_ms`, `factorisation_ms`, `solve_ms` (the triangular
+/// solves), `line_search_ms`: the wall time of each solver phase.
 pub fn stats_columns(energy_names: &[&str]) -> Vec<String> {
     LEADING_COLUMNS
         .iter()
@@ -109,7 +110,7 @@ impl StatsWriter {
         let min_height = stats.min_height.map(|h| h.to_string()).unwrap_or_default();
         write!(
             row,
-            ",{},{},{},{},{min_height},{},{:.3},{},{},{:.3},{:.3},{:.3}",
+            ",{},{},{},{},{min_height},{},{:.3},{},{},{:.3},{:.3},{:.3},{:.3}",
             stats.energy.total(),
             com(0),
             com(1),
@@ -120,6 +121,7 @@ impl StatsWriter {
             stats.stalled_steps,
             ms(stats.times.assembly),
             ms(stats.times.factorisation),
+            ms(stats.times.solve),
             ms(stats.times.line_search),
         )
         .expect("formatting into a String cannot fail");

@@ -58,12 +58,18 @@ pub fn newton<const D: usize>(
         if flat.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite("the gradient is not finite"));
         }
-        hessian
-            .factor_and_solve(&mut flat)
-            .map_err(SolveError::Factorisation)?;
+        let mut solve_time = start.elapsed();
+
+        let start = Instant::now();
+        hessian.factorise().map_err(SolveError::Factorisation)?;
+        stats.times.factorisation += start.elapsed();
+
+        let start = Instant::now();
+        hessian.solve(&mut flat);
         hessian.scatter_free(&flat, &mut direction);
         stats.linear_solves += 1;
-        stats.times.factorisation += start.elapsed();
+        solve_time += start.elapsed();
+        stats.times.solve += solve_time;
 
         stats.residual = flat.iter().fold(0.0f64, |m, v| m.max(v.abs())) / dt;
 
