@@ -46,4 +46,4 @@ mod sparse_cholesky;
 mod sparse_hessian;
 
 pub use sparse_cholesky::{FactorisationError, SparseCholesky};
-pub use sparse_hessian::SparseHessian;
+pub use sparse_hessian::{SparseHessian, element_slot_index, element_slot_len};

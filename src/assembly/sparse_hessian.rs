@@ -26,6 +26,21 @@ const PARALLEL_MIN_ENTRIES: usize = 4 * ENTRIES_PER_TASK;
 /// Marker for an upper-triangle entry of a diagonal block (not stored).
 const NOT_STORED: usize = usize::MAX;
 
+/// Numbers per element Hessian slot: the lower triangle of the symmetric
+/// `D(D+1)`-square element Hessian, packed by columns
+/// ([`element_slot_index`]): 21 in 2D, 78 in 3D (not 36 and 144).
+pub const fn element_slot_len(d: usize) -> usize {
+    let size = d * (d + 1);
+    size * (size + 1) / 2
+}
+
+/// Where the entry `(p, q)`, `p >= q`, of an element Hessian of size
+/// `size` sits in its packed lower-triangle slot (column `q` holds rows
+/// `q..size`, columns one after the other).
+pub const fn element_slot_index(size: usize, p: usize, q: usize) -> usize {
+    q * size - q * q.saturating_sub(1) / 2 + (p - q)
+}
+
 /// A symmetric sparse matrix over the free degrees of freedom of a mesh.
 pub struct SparseHessian<const D: usize> {
     /// Vertex -> free vertex index.
@@ -36,14 +51,15 @@ pub struct SparseHessian<const D: usize> {
     values: Vec<f64>,
     /// Per free vertex, `D x D` value indices of its diagonal block (column-major), lower part only.
     diagonal_block_entries: Vec<usize>,
-    /// Element Hessian slots, `(D (D+1))^2` per element, column-major.
+    /// Element Hessian slots, [`element_slot_len`] per element (packed lower triangle).
     element_buffer: Vec<f64>,
     /// Element gradient slots, `D + 1` vectors per element (the energy terms
     /// fill them in the same pass as the Hessian slots and sum them per vertex).
     element_gradients: Vec<Vector<D>>,
-    /// For each stored value, its sources in `element_buffer` (CSR).
+    /// For each stored value, its sources in `element_buffer` (CSR; `u32`
+    /// halves the largest list: 78 sources per tetrahedron).
     gather_offsets: Vec<usize>,
-    gather_sources: Vec<usize>,
+    gather_sources: Vec<u32>,
     cholesky: SparseCholesky,
 }
 
@@ -98,9 +114,17 @@ impl<const D: usize> SparseHessian<D> {
                 }
             }
         }
-        // Gather lists: element-local entry (p, q) -> stored entry (row >= col).
+        // Gather lists: element-local entry (p, q) -> stored entry (row >= col),
+        // read from the packed lower triangle (the element Hessian is symmetric).
         let size = D * (D + 1);
-        let mut contributions: Vec<(usize, usize)> = Vec::new();
+        let slot_len = element_slot_len(D);
+        if mesh.element_count().saturating_mul(slot_len) > u32::MAX as usize {
+            return Err(FactorisationError(format!(
+                "{} elements are more than the assembly can index",
+                mesh.element_count()
+            )));
+        }
+        let mut contributions: Vec<(usize, u32)> = Vec::new();
         for (e, simplex) in mesh.simplices().enumerate() {
             for q in 0..size {
                 let Some(fb) = free_index[simplex[q / D]] else {
@@ -113,7 +137,9 @@ impl<const D: usize> SparseHessian<D> {
                     };
                     let row = fa * D + p % D;
                     if row >= col {
-                        contributions.push((entry(row, col), e * size * size + q * size + p));
+                        let (high, low) = (p.max(q), p.min(q));
+                        let source = e * slot_len + element_slot_index(size, high, low);
+                        contributions.push((entry(row, col), source as u32));
                     }
                 }
             }
@@ -148,7 +174,7 @@ impl<const D: usize> SparseHessian<D> {
             row_idx,
             values,
             diagonal_block_entries,
-            element_buffer: vec![0.0; mesh.element_count() * size * size],
+            element_buffer: vec![0.0; mesh.element_count() * slot_len],
             element_gradients: vec![Vector::<D>::zeros(); mesh.element_count() * (D + 1)],
             gather_offsets,
             gather_sources,
@@ -193,8 +219,9 @@ impl<const D: usize> SparseHessian<D> {
         }
     }
 
-    /// Per-element slots for element Hessians: `(D (D+1))^2` values per
-    /// element, column-major, local unknown `a D + k` for vertex `a`, axis `k`.
+    /// Per-element slots for element Hessians: [`element_slot_len`] values
+    /// per element, the lower triangle packed by columns
+    /// ([`element_slot_index`]), local unknown `a D + k` for vertex `a`, axis `k`.
     pub fn element_buffer_mut(&mut self) -> &mut [f64] {
         &mut self.element_buffer
     }
@@ -215,7 +242,7 @@ impl<const D: usize> SparseHessian<D> {
         );
         let gather = |(t, value): (usize, &mut f64)| {
             for &source in &sources[offsets[t]..offsets[t + 1]] {
-                *value += buffer[source];
+                *value += buffer[source as usize];
             }
         };
         if self.values.len() < PARALLEL_MIN_ENTRIES {
@@ -336,4 +363,24 @@ fn free_vertex_order<const D: usize>(
         neighbours: &neighbours,
     };
     nested_dissection(&graph, &positions)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn packed_slots_number_the_lower_triangle_by_columns() {
+        for d in [2, 3] {
+            let size = d * (d + 1);
+            let mut next = 0;
+            for q in 0..size {
+                for p in q..size {
+                    assert_eq!(element_slot_index(size, p, q), next);
+                    next += 1;
+                }
+            }
+            assert_eq!(next, element_slot_len(d));
+        }
+    }
 }

@@ -16,7 +16,7 @@
 //! fields), where this keeps the term as it is.
 
 use super::{Elasticity, ElementField, EnergyTerm};
-use crate::assembly::{FactorisationError, SparseHessian};
+use crate::assembly::{FactorisationError, SparseHessian, element_slot_len};
 use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
@@ -96,7 +96,7 @@ impl<const D: usize> BodyElasticity<D> {
 impl<const D: usize> BodyElasticity<D> {
     /// Every body fills its own elements' slots of the scene's `hessian`.
     fn fill_element_slots(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
-        let block = (D * (D + 1)).pow(2);
+        let block = element_slot_len(D);
         let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
         for p in &self.parts {
             let (elements, vertices) = (p.elements.clone(), p.vertices.clone());

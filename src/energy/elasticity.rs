@@ -26,7 +26,7 @@
 use super::ElementField;
 use super::EnergyTerm;
 use super::element_derivatives::{ElementSlots, element_gradient_and_hessian};
-use crate::assembly::SparseHessian;
+use crate::assembly::{SparseHessian, element_slot_index, element_slot_len};
 use crate::material::{HyperelasticMaterial, Material, with_material};
 use crate::math::{DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in};
 use crate::mesh::{Mesh, RestElement, edge_matrix};
@@ -134,7 +134,7 @@ impl<const D: usize> Elasticity<D> {
     }
 
     /// Fills the element slots of this mesh, `hessian_slots`
-    /// (`(D (D+1))^2` per element) and `gradient_slots` (`D + 1` per
+    /// ([`element_slot_len`] per element, packed lower triangles) and `gradient_slots` (`D + 1` per
     /// element), with `scale` times each element's gradient and
     /// PSD-projected Hessian.
     pub fn fill_element_slots(
@@ -144,7 +144,7 @@ impl<const D: usize> Elasticity<D> {
         hessian_slots: &mut [f64],
         gradient_slots: &mut [Vector<D>],
     ) {
-        let size = (D * (D + 1)) * (D * (D + 1));
+        let size = element_slot_len(D);
         let mesh = &*self.mesh;
         with_material!(&self.material, m => {
             let fill = |(e, (hessian, gradient)): (usize, (&mut [f64], &mut [Vector<D>]))| {
@@ -192,14 +192,16 @@ impl<const D: usize> Elasticity<D> {
     /// `dP/dF`, as assembled), as a dense matrix (for tests and analysis).
     fn dense_element_hessian(&self, e: usize, x: &[Vector<D>], project: bool) -> DenseMatrix {
         let size = D * (D + 1);
-        let mut hessian = vec![0.0; size * size];
+        let mut hessian = vec![0.0; element_slot_len(D)];
         let mut gradient = vec![Vector::<D>::zeros(); D + 1];
         let slots = ElementSlots {
             gradient: &mut gradient,
             hessian: &mut hessian,
         };
         with_material!(&self.material, m => element_gradient_and_hessian(m, &*self.mesh, (e, x, 1.0), project, slots));
-        DenseMatrix::from_column_slice(size, size, &hessian)
+        DenseMatrix::from_fn(size, size, |p, q| {
+            hessian[element_slot_index(size, p.max(q), p.min(q))]
+        })
     }
 
     /// The element Hessian of element `e` before projection (for tests and analysis).

@@ -25,10 +25,12 @@
 //!
 //! Everything is fixed-size: `F`, `P`, `A` and the shape gradients live on
 //! the stack, and the results are written straight into the element's slots
-//! (`D + 1` gradient vectors and the column-major `D(D+1)`-square Hessian),
+//! (`D + 1` gradient vectors and the lower triangle of the symmetric
+//! `D(D+1)`-square Hessian, packed: 78 numbers per tetrahedron, not 144),
 //! so a pass over the mesh allocates nothing. `F` is computed once per
 //! element per pass, and `P` and `dP/dF` come from one call to the material.
 
+use crate::assembly::element_slot_index;
 use crate::material::HyperelasticMaterial;
 use crate::math::{Matrix, Vector, project_isotropic_stress_derivative_to_psd};
 use crate::mesh::{Mesh, RestElement};
@@ -52,7 +54,8 @@ fn shape_gradients<const D: usize>(dm_inv: &Matrix<D>) -> [Vector<D>; MAX_NODES]
 pub struct ElementSlots<'a, const D: usize> {
     /// `D + 1` gradient vectors, one per local vertex.
     pub gradient: &'a mut [Vector<D>],
-    /// `(D (D+1))^2` numbers, column-major, local unknown `a D + k`.
+    /// The lower triangle of the symmetric `D(D+1)`-square Hessian, packed
+    /// by columns ([`element_slot_index`]), local unknown `a D + k`.
     pub hessian: &'a mut [f64],
 }
 
@@ -106,15 +109,17 @@ pub fn element_gradient_and_hessian<const D: usize, M: HyperelasticMaterial<D>>(
                     *wi += ci * gbn;
                 }
             }
-            let out = &mut hessian[(b * D + l) * size..(b * D + l + 1) * size];
-            for a in 0..=D {
-                for k in 0..D {
-                    let mut sum = 0.0;
-                    for j in 0..D {
-                        sum += w[k * D + j] * g[a][j];
-                    }
-                    out[a * D + k] = sum;
+            // Column q = (b l) of the lower triangle: rows p = (a k) >= q.
+            let q = b * D + l;
+            let start = element_slot_index(size, q, q);
+            let out = &mut hessian[start..start + size - q];
+            for p in q..size {
+                let (a, k) = (p / D, p % D);
+                let mut sum = 0.0;
+                for j in 0..D {
+                    sum += w[k * D + j] * g[a][j];
                 }
+                out[p - q] = sum;
             }
         }
     }
