@@ -50,6 +50,8 @@ impl<const D: usize> BodyElasticity<D> {
 
     /// Several bodies, each its mesh (with its own vertex numbering) and
     /// material, in the order their meshes are concatenated in the scene's.
+    /// (It no longer fails: the bodies need no Hessians of their own. The
+    /// `Result` stays for the callers in `sim`.)
     pub fn bodies(bodies: Vec<(Arc<Mesh<D>>, Material)>) -> Result<Self, FactorisationError> {
         if bodies.len() == 1 {
             let (mesh, material) = bodies.into_iter().next().expect("one body");
