@@ -43,7 +43,7 @@ impl Roots {
 
 impl Polynomial {
     /// The polynomial with these coefficients, lowest degree first (at most
-    /// [`MAX_COEFFICIENTS`]).
+    /// four: degree 3).
     pub fn new(coefficients: &[f64]) -> Self {
         assert!(
             coefficients.len() <= MAX_COEFFICIENTS,
