@@ -73,6 +73,7 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "stalled_steps",
     "assembly_ms",
     "factorisation_ms",
+    "solve_ms",
     "line_search_ms",
     "render_ms",
     "encode_ms",

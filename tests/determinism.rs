@@ -70,3 +70,17 @@ fn one_and_two_threads_give_identical_positions_3d() {
             .all(|(x, y)| x.to_bits() == y.to_bits())
     }));
 }
+
+#[test]
+fn one_and_two_threads_give_identical_positions_on_a_large_mesh() {
+    // 2 * 64 * 64 = 8192 triangles, about 45 000 stored matrix entries: the
+    // element pass, the gradient scatter and the matrix gather all run in
+    // parallel (above their sequential thresholds) with two threads.
+    let one = run::<2>(1, [64, 64]);
+    let two = run::<2>(2, [64, 64]);
+    assert!(one.iter().zip(&two).all(|(a, b)| {
+        a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    }));
+}

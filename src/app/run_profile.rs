@@ -15,9 +15,10 @@ use std::fmt::Write as _;
 use std::time::Duration;
 
 /// The phases of the table, in order.
-const PHASES: [&str; 9] = [
+const PHASES: [&str; 10] = [
     "assembly",
-    "factorisation + solve",
+    "factorisation",
+    "solve",
     "line search",
     "other simulation",
     "draw",
@@ -26,7 +27,7 @@ const PHASES: [&str; 9] = [
     "PNG encode + write",
     "video encode + write",
 ];
-const SIMULATION_PHASES: usize = 4;
+const SIMULATION_PHASES: usize = 5;
 
 /// Per-frame durations of every phase.
 #[derive(Debug, Default)]
@@ -38,10 +39,11 @@ pub struct RunProfile {
 impl RunProfile {
     /// Records a simulated frame: its solver phases and its whole wall time.
     pub fn simulated(&mut self, times: &PhaseTimes, wall: Duration) {
-        let solver = times.assembly + times.factorisation + times.line_search;
+        let solver = times.assembly + times.factorisation + times.solve + times.line_search;
         self.simulated.push([
             times.assembly,
             times.factorisation,
+            times.solve,
             times.line_search,
             wall.saturating_sub(solver),
         ]);
@@ -134,7 +136,8 @@ mod tests {
         for (assembly, wall) in [(1, 10), (3, 12), (2, 20)] {
             let times = PhaseTimes {
                 assembly: ms(assembly),
-                factorisation: ms(4),
+                factorisation: ms(3),
+                solve: ms(1),
                 line_search: ms(1),
             };
             profile.simulated(&times, ms(wall));
@@ -152,7 +155,9 @@ mod tests {
         }
         let table = profile.table(Duration::from_millis(1500));
         assert_eq!(row(&table, "assembly"), ["3", "2.000", "0.006"]);
-        // wall - (assembly + factorisation + line search) = 10 - 6, 12 - 8, 20 - 7 ms.
+        assert_eq!(row(&table, "factorisation"), ["3", "3.000", "0.009"]);
+        assert_eq!(row(&table, "solve"), ["3", "1.000", "0.003"]);
+        // wall - (assembly + factorisation + solve + line search) = 10 - 6, 12 - 8, 20 - 7 ms.
         assert_eq!(row(&table, "other simulation"), ["3", "4.000", "0.021"]);
         // Median of 10, 20, 30, 40: the upper middle value.
         assert_eq!(row(&table, "draw"), ["4", "30.000", "0.100"]);

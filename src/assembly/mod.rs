@@ -11,8 +11,10 @@
 //!   number) and every stored entry then sums its contributions from those
 //!   slots in an order fixed when the pattern was built. The sum therefore does
 //!   not depend on the thread count: results are bitwise reproducible.
-//! * [`SparseCholesky`]: faer's sparse `L L^T`. The symbolic factorisation
-//!   (fill-reducing ordering, elimination tree) is computed once per pattern;
+//! * [`SparseCholesky`]: faer's supernodal sparse `L L^T`, in the
+//!   nested-dissection order of `nested_dissection.rs` (geometric, on the
+//!   vertex graph). The symbolic factorisation
+//!   (ordering, elimination tree, supernodes) is computed once per pattern;
 //!   each Newton iteration only refills values and refactors numerically. A
 //!   non-positive pivot is a typed [`FactorisationError`], never a panic.
 //!
@@ -39,8 +41,9 @@
 //! blocks), so step 1's set is empty and the symbolic factorisation is done
 //! exactly once, in [`SparseHessian::new`].
 
+mod nested_dissection;
 mod sparse_cholesky;
 mod sparse_hessian;
 
 pub use sparse_cholesky::{FactorisationError, SparseCholesky};
-pub use sparse_hessian::SparseHessian;
+pub use sparse_hessian::{SparseHessian, element_slot_index, element_slot_len};

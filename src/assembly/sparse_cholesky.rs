@@ -1,9 +1,19 @@
 //! Sparse Cholesky `H = L L^T` with faer: one symbolic analysis per pattern, a numeric refactorisation per Newton iteration.
+//!
+//! The elimination order is the caller's (the nested dissection of
+//! [`super::nested_dissection`], through `SymmetricOrdering::Custom`), and
+//! the factorisation is forced supernodal: with a nested-dissection order
+//! the separators become dense blocks, which faer factorises with dense
+//! kernels (the simplicial variant works one column at a time). Without an
+//! order (an empty matrix), faer's AMD is used.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::perm::PermRef;
+use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
@@ -23,19 +33,37 @@ pub struct SparseCholesky {
 }
 
 impl SparseCholesky {
+    /// Stored non-zeros of the factor `L` (its storage is 8 bytes each).
+    pub fn factor_non_zeros(&self) -> usize {
+        self.factor_values.len()
+    }
+}
+
+impl SparseCholesky {
     /// Analyses the `dofs x dofs` lower-triangle pattern `(col_ptr, row_idx)`
-    /// (AMD ordering).
+    /// for the elimination order `order = (forward, inverse)` (`forward[k]`
+    /// is the unknown eliminated `k`-th; `None`: AMD).
     pub fn analyse(
         dofs: usize,
         col_ptr: &[usize],
         row_idx: &[usize],
+        order: Option<(&[usize], &[usize])>,
     ) -> Result<Self, FactorisationError> {
         let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx);
+        let ordering = match order {
+            Some((forward, inverse)) => {
+                SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, dofs))
+            }
+            None => SymmetricOrdering::Amd,
+        };
         let symbolic = factorize_symbolic_cholesky(
             pattern,
             Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams::default(),
+            ordering,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
         )
         .map_err(|e| FactorisationError(format!("{e:?}")))?;
         let factor_values = vec![0.0; symbolic.len_val()];
@@ -51,17 +79,15 @@ impl SparseCholesky {
         })
     }
 
-    /// Factorises `matrix` (same pattern as analysed) and solves
-    /// `matrix x = rhs` in place. Sequential, so results do not depend on the
-    /// thread count.
-    pub fn factor_and_solve(
+    /// Factorises `matrix` (same pattern as analysed), keeping `L` for
+    /// [`Self::solve`]. Sequential, so results do not depend on the thread
+    /// count.
+    pub fn factorise(
         &mut self,
         matrix: SparseColMatRef<'_, usize, f64>,
-        rhs: &mut [f64],
     ) -> Result<(), FactorisationError> {
         let stack = MemStack::new(&mut self.workspace);
-        let llt = self
-            .symbolic
+        self.symbolic
             .factorize_numeric_llt::<f64>(
                 &mut self.factor_values,
                 matrix,
@@ -72,6 +98,13 @@ impl SparseCholesky {
                 Default::default(),
             )
             .map_err(|e| FactorisationError(format!("{e:?}")))?;
+        Ok(())
+    }
+
+    /// Solves `matrix x = rhs` in place with the factor of the last
+    /// successful [`Self::factorise`] (two triangular solves).
+    pub fn solve(&mut self, rhs: &mut [f64]) {
+        let llt = LltRef::<'_, usize, f64>::new(&self.symbolic, &self.factor_values);
         let stack = MemStack::new(&mut self.workspace);
         let n = rhs.len();
         llt.solve_in_place_with_conj(
@@ -80,6 +113,5 @@ impl SparseCholesky {
             Par::Seq,
             stack,
         );
-        Ok(())
     }
 }

@@ -6,19 +6,17 @@
 //! elements in body order, each simplex's vertex order kept), so body `b`
 //! owns the contiguous vertices `V_b` and elements `E_b` and
 //! `U(x) = sum_b U_b(x[V_b])`. Values, gradients and step caps are the
-//! bodies' own on their slices. For the Hessian, each body's element
-//! Hessians are computed into a Hessian of the body alone and copied into
-//! the scene Hessian's element slots `E_b` (the same local vertex order), which
-//! are then gathered once. A single body is its `Elasticity` over the whole
-//! mesh, unchanged.
+//! bodies' own on their slices. For the Hessian, each body fills the scene
+//! Hessian's element slots `E_b` directly (the same local vertex order, no
+//! copy), which are then gathered once. A single body is its `Elasticity`
+//! over the whole mesh, unchanged.
 //!
 //! Why not a per-element material index inside [`Elasticity`]: it would mean
 //! touching every loop of that term (its value, gradient, Hessian, step cap,
-//! fields), where this keeps the term as it is and costs a second gather
-//! per body and Newton iteration only when there are several bodies.
+//! fields), where this keeps the term as it is.
 
 use super::{Elasticity, ElementField, EnergyTerm};
-use crate::assembly::{FactorisationError, SparseHessian};
+use crate::assembly::{FactorisationError, SparseHessian, element_slot_len};
 use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
@@ -30,9 +28,6 @@ struct BodyPart<const D: usize> {
     elasticity: Elasticity<D>,
     vertices: Range<usize>,
     elements: Range<usize>,
-    /// The body's own Hessian, to compute its element Hessians into (none
-    /// for a single body, which writes into the scene's Hessian directly).
-    scratch: Option<std::sync::Mutex<SparseHessian<D>>>,
 }
 
 /// The strain energy of every body of a scene, named `elastic`.
@@ -49,13 +44,14 @@ impl<const D: usize> BodyElasticity<D> {
                 elasticity: Elasticity::new(mesh, material),
                 vertices,
                 elements,
-                scratch: None,
             }],
         }
     }
 
     /// Several bodies, each its mesh (with its own vertex numbering) and
     /// material, in the order their meshes are concatenated in the scene's.
+    /// (It no longer fails: the bodies need no Hessians of their own. The
+    /// `Result` stays for the callers in `sim`.)
     pub fn bodies(bodies: Vec<(Arc<Mesh<D>>, Material)>) -> Result<Self, FactorisationError> {
         if bodies.len() == 1 {
             let (mesh, material) = bodies.into_iter().next().expect("one body");
@@ -67,12 +63,10 @@ impl<const D: usize> BodyElasticity<D> {
             let vertices = vertex..vertex + mesh.vertex_count();
             let elements = element..element + mesh.element_count();
             (vertex, element) = (vertices.end, elements.end);
-            let scratch = SparseHessian::new(&mesh, (0..mesh.vertex_count()).map(Some).collect())?;
             parts.push(BodyPart {
                 elasticity: Elasticity::new(mesh, material),
                 vertices,
                 elements,
-                scratch: Some(std::sync::Mutex::new(scratch)),
             });
         }
         Ok(Self { parts })
@@ -101,6 +95,23 @@ impl<const D: usize> BodyElasticity<D> {
     }
 }
 
+impl<const D: usize> BodyElasticity<D> {
+    /// Every body fills its own elements' slots of the scene's `hessian`.
+    fn fill_element_slots(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
+        let block = element_slot_len(D);
+        let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
+        for p in &self.parts {
+            let (elements, vertices) = (p.elements.clone(), p.vertices.clone());
+            p.elasticity.fill_element_slots(
+                &x[vertices],
+                scale,
+                &mut hessian_slots[elements.start * block..elements.end * block],
+                &mut gradient_slots[elements.start * (D + 1)..elements.end * (D + 1)],
+            );
+        }
+    }
+}
+
 impl<const D: usize> EnergyTerm<D> for BodyElasticity<D> {
     fn name(&self) -> &'static str {
         "elastic"
@@ -123,23 +134,33 @@ impl<const D: usize> EnergyTerm<D> for BodyElasticity<D> {
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
         let [part] = &self.parts[..] else {
-            let block = (D * (D + 1)).pow(2);
-            for p in &self.parts {
-                let scratch = p
-                    .scratch
-                    .as_ref()
-                    .expect("several bodies have scratch Hessians");
-                let mut scratch = scratch.lock().expect("the scratch Hessian is not poisoned");
-                scratch.clear();
-                p.elasticity
-                    .add_hessian(&x[p.vertices.clone()], scale, &mut scratch);
-                let slots = p.elements.start * block..p.elements.end * block;
-                hessian.element_buffer_mut()[slots].copy_from_slice(scratch.element_buffer_mut());
-            }
+            self.fill_element_slots(x, scale, hessian);
             hessian.gather_element_buffer();
             return;
         };
         part.elasticity.add_hessian(x, scale, hessian);
+    }
+
+    fn add_gradient_and_hessian(
+        &self,
+        x: &[Vector<D>],
+        scale: f64,
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        let [part] = &self.parts[..] else {
+            self.fill_element_slots(x, scale, hessian);
+            let (_, gradient_slots) = hessian.element_slots_mut();
+            for p in &self.parts {
+                let slots = p.elements.start * (D + 1)..p.elements.end * (D + 1);
+                p.elasticity
+                    .add_gradient_slots(&gradient_slots[slots], &mut gradient[p.vertices.clone()]);
+            }
+            hessian.gather_element_buffer();
+            return;
+        };
+        part.elasticity
+            .add_gradient_and_hessian(x, scale, gradient, hessian);
     }
 
     fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {

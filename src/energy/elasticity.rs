@@ -10,21 +10,25 @@
 //! d2U/dx_{a,k} dx_{b,l}   = V sum_{j,n} (dP/dF_{l n})_{k j} (g_a)_j (g_b)_n.
 //! ```
 //!
-//! The element Hessian (`D(D+1)` square) is projected onto the PSD cone before
-//! assembly. Elements are processed in parallel into per-element slots, which
-//! are then summed per vertex (or per matrix entry) in a fixed order, so the
-//! result is bitwise the same whatever the thread count.
+//! The per-element work (gradient and Hessian in one pass, the Hessian made
+//! PSD by projecting `dP/dF`, everything fixed-size) is
+//! `element_derivatives.rs`. Elements are processed into per-element slots
+//! (in parallel for large meshes, on the calling thread below
+//! `PARALLEL_MIN_ELEMENTS`, where a rayon dispatch would cost more than the
+//! work), which are then summed per vertex (or per matrix entry) in a fixed
+//! order, so the result is bitwise the same whatever the thread count. The
+//! slots live in the [`SparseHessian`], so a Newton iteration allocates
+//! nothing here.
 //!
 //! The finite-volume force of the report equals `-dU/dx_a`; see
 //! [`crate::finite_volume`].
 
 use super::ElementField;
 use super::EnergyTerm;
-use crate::assembly::SparseHessian;
+use super::element_derivatives::{ElementSlots, element_gradient_and_hessian};
+use crate::assembly::{SparseHessian, element_slot_index, element_slot_len};
 use crate::material::{HyperelasticMaterial, Material, with_material};
-use crate::math::{
-    DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in, project_to_psd,
-};
+use crate::math::{DenseMatrix, Matrix, Polynomial, Vector, determinant, first_root_in};
 use crate::mesh::{Mesh, RestElement, edge_matrix};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -38,8 +42,10 @@ pub const INVERSION_STEP_FRACTION: f64 = 0.9;
 /// under sane loads.
 pub const MIN_VOLUME_RATIO: f64 = 1e-9;
 
-/// Elements per rayon task: small meshes stay on one thread.
+/// Elements per rayon task.
 const ELEMENTS_PER_TASK: usize = 256;
+/// Below this many elements (or vertices) a pass runs on the calling thread.
+const PARALLEL_MIN_ELEMENTS: usize = 4 * ELEMENTS_PER_TASK;
 
 /// The strain energy of a mesh made of one material.
 pub struct Elasticity<const D: usize> {
@@ -127,55 +133,86 @@ impl<const D: usize> Elasticity<D> {
         out
     }
 
-    /// The exact element Hessian of element `e` (scaled by `scale`) and the
-    /// stress derivative it was built from.
-    fn exact_element_hessian<M: HyperelasticMaterial<D>>(
+    /// Fills the element slots of this mesh, `hessian_slots`
+    /// ([`element_slot_len`] per element, packed lower triangles) and `gradient_slots` (`D + 1` per
+    /// element), with `scale` times each element's gradient and
+    /// PSD-projected Hessian.
+    pub fn fill_element_slots(
         &self,
-        material: &M,
-        e: usize,
         x: &[Vector<D>],
         scale: f64,
-    ) -> (DenseMatrix, crate::math::StressDerivative<D>) {
-        let size = D * (D + 1);
-        let RestElement { dm_inv, volume } = self.mesh.rest_elements()[e];
-        let dp = material.first_piola_derivative(&self.mesh.deformation_gradient(e, x));
-        let mut h = DenseMatrix::zeros(size, size);
-        for b in 0..=D {
-            let gb = shape_gradient(&dm_inv, b);
-            for l in 0..D {
-                let mut m_bl = Matrix::<D>::zeros();
-                for n in 0..D {
-                    m_bl += dp[l][n] * gb[n];
-                }
-                for a in 0..=D {
-                    let column = m_bl * shape_gradient(&dm_inv, a) * (volume * scale);
-                    for k in 0..D {
-                        h[(a * D + k, b * D + l)] = column[k];
-                    }
-                }
+        hessian_slots: &mut [f64],
+        gradient_slots: &mut [Vector<D>],
+    ) {
+        let size = element_slot_len(D);
+        let mesh = &*self.mesh;
+        with_material!(&self.material, m => {
+            let fill = |(e, (hessian, gradient)): (usize, (&mut [f64], &mut [Vector<D>]))| {
+                element_gradient_and_hessian(m, mesh, (e, x, scale), true, ElementSlots { gradient, hessian });
+            };
+            if mesh.element_count() < PARALLEL_MIN_ELEMENTS {
+                hessian_slots
+                    .chunks_mut(size)
+                    .zip(gradient_slots.chunks_mut(D + 1))
+                    .enumerate()
+                    .for_each(fill);
+            } else {
+                hessian_slots
+                    .par_chunks_mut(size)
+                    .zip(gradient_slots.par_chunks_mut(D + 1))
+                    .with_min_len(ELEMENTS_PER_TASK)
+                    .enumerate()
+                    .for_each(fill);
             }
-        }
-        (h, dp)
+        });
     }
 
-    /// The element Hessian of element `e`, projected to PSD, scaled.
-    fn element_hessian<M: HyperelasticMaterial<D>>(
-        &self,
-        material: &M,
-        e: usize,
-        x: &[Vector<D>],
-        scale: f64,
-    ) -> DenseMatrix {
-        let (mut h, dp) = self.exact_element_hessian(material, e, x, scale);
-        if !is_positive_definite(&dp) {
-            project_to_psd(&mut h);
+    /// Adds the gradient slots (as filled by [`Self::fill_element_slots`])
+    /// into `gradient`, per vertex in element order.
+    pub fn add_gradient_slots(&self, gradient_slots: &[Vector<D>], gradient: &mut [Vector<D>]) {
+        let add = |(v, g): (usize, &mut Vector<D>)| {
+            for &slot in
+                &self.vertex_slots[self.vertex_slot_offsets[v]..self.vertex_slot_offsets[v + 1]]
+            {
+                *g += gradient_slots[slot];
+            }
+        };
+        if gradient.len() < PARALLEL_MIN_ELEMENTS {
+            gradient.iter_mut().enumerate().for_each(add);
+        } else {
+            gradient
+                .par_iter_mut()
+                .with_min_len(ELEMENTS_PER_TASK)
+                .enumerate()
+                .for_each(add);
         }
-        h
+    }
+
+    /// The element Hessian of element `e`, exact or PSD-projected (through
+    /// `dP/dF`, as assembled), as a dense matrix (for tests and analysis).
+    fn dense_element_hessian(&self, e: usize, x: &[Vector<D>], project: bool) -> DenseMatrix {
+        let size = D * (D + 1);
+        let mut hessian = vec![0.0; element_slot_len(D)];
+        let mut gradient = vec![Vector::<D>::zeros(); D + 1];
+        let slots = ElementSlots {
+            gradient: &mut gradient,
+            hessian: &mut hessian,
+        };
+        with_material!(&self.material, m => element_gradient_and_hessian(m, &*self.mesh, (e, x, 1.0), project, slots));
+        DenseMatrix::from_fn(size, size, |p, q| {
+            hessian[element_slot_index(size, p.max(q), p.min(q))]
+        })
     }
 
     /// The element Hessian of element `e` before projection (for tests and analysis).
     pub fn unprojected_element_hessian(&self, e: usize, x: &[Vector<D>]) -> DenseMatrix {
-        with_material!(&self.material, m => self.exact_element_hessian(m, e, x, 1.0).0)
+        self.dense_element_hessian(e, x, false)
+    }
+
+    /// The element Hessian of element `e` as assembled: `V G^T [dP/dF]_+ G`
+    /// (for tests and analysis).
+    pub fn projected_element_hessian(&self, e: usize, x: &[Vector<D>]) -> DenseMatrix {
+        self.dense_element_hessian(e, x, true)
     }
 
     /// Minimum volume ratio `J = det F` over all elements.
@@ -205,21 +242,6 @@ impl<const D: usize> Elasticity<D> {
     }
 }
 
-/// Whether `dP/dF`, as a `D^2 x D^2` matrix, is positive definite (one
-/// Cholesky attempt). Then `H_e = V G^T (dP/dF) G` is PSD already and its
-/// projection would return it unchanged, so the eigen-decomposition is
-/// skipped. This is not the common case near rest: for the isotropic
-/// materials here the eigenvalue of `dP/dF` for the twist (rotation) mode is
-/// zero at every rotation and negative under compression, so `dP/dF` is only
-/// positive semi-definite (or indefinite) there and the projection runs. It
-/// pays off for stretched elements.
-fn is_positive_definite<const D: usize>(dp: &crate::math::StressDerivative<D>) -> bool {
-    let flat = DenseMatrix::from_fn(D * D, D * D, |row, col| {
-        dp[col / D][col % D][(row / D, row % D)]
-    });
-    flat.cholesky().is_some()
-}
-
 /// Von Mises equivalent stress of the Cauchy stress `sigma = P F^T / J`:
 /// `sqrt(3/2 s:s)` with the deviator `s` of the 3D stress. A 2D stress is
 /// completed by its plane-strain `sigma_zz` (`out_of_plane`; 0 in 3D), so
@@ -241,13 +263,22 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
     }
 
     fn value(&self, x: &[Vector<D>]) -> f64 {
-        let energies: Vec<f64> = with_material!(&self.material, m => (0..self.mesh.element_count())
-            .into_par_iter()
-            .with_min_len(ELEMENTS_PER_TASK)
-            .map(|e| self.mesh.rest_elements()[e].volume * m.energy_density(&self.mesh.deformation_gradient(e, x)))
-            .collect());
-        // A sequential sum: the same order whatever the thread count.
-        energies.iter().sum()
+        let count = self.mesh.element_count();
+        with_material!(&self.material, m => {
+            let energy = |e: usize| self.mesh.rest_elements()[e].volume * m.energy_density(&self.mesh.deformation_gradient(e, x));
+            // A sequential sum in element order either way: the same
+            // result whatever the thread count.
+            if count < PARALLEL_MIN_ELEMENTS {
+                (0..count).map(energy).sum()
+            } else {
+                let energies: Vec<f64> = (0..count)
+                    .into_par_iter()
+                    .with_min_len(ELEMENTS_PER_TASK)
+                    .map(energy)
+                    .collect();
+                energies.iter().sum()
+            }
+        })
     }
 
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
@@ -266,13 +297,22 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
     }
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
-        let size = D * (D + 1);
-        let buffer = hessian.element_buffer_mut();
-        with_material!(&self.material, m => buffer
-            .par_chunks_mut(size * size)
-            .with_min_len(ELEMENTS_PER_TASK / 4)
-            .enumerate()
-            .for_each(|(e, slot)| slot.copy_from_slice(self.element_hessian(m, e, x, scale).as_slice())));
+        let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
+        self.fill_element_slots(x, scale, hessian_slots, gradient_slots);
+        hessian.gather_element_buffer();
+    }
+
+    /// One pass over the elements for both (`F`, `P` and `dP/dF` once per element).
+    fn add_gradient_and_hessian(
+        &self,
+        x: &[Vector<D>],
+        scale: f64,
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
+        self.fill_element_slots(x, scale, hessian_slots, gradient_slots);
+        self.add_gradient_slots(gradient_slots, gradient);
         hessian.gather_element_buffer();
     }
 
@@ -294,46 +334,59 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
     /// Where such a material cannot decrease its energy without flattening
     /// further, the cap is 0 and the solver reports the step as stalled.
     fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
-        let caps: Vec<f64> = (0..self.mesh.element_count())
-            .into_par_iter()
-            .with_min_len(ELEMENTS_PER_TASK)
-            .map(|e| {
-                let simplex = self.mesh.simplex(e);
-                let dm_inv = self.mesh.rest_elements()[e].dm_inv;
-                let ds = edge_matrix(x, simplex);
-                let dds = edge_matrix(dx, simplex);
-                let ratio = |t: f64| determinant(&((ds + dds * t) * dm_inv));
-                let j0 = ratio(0.0);
-                if !(j0 > 0.0) {
-                    // Already flat or inverted (not reachable by a guarded
-                    // step): only keep it from crossing zero again.
-                    let volume = Polynomial::interpolate(D, ratio);
-                    return first_root_in(&volume, 1.0)
-                        .map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+        let cap = |e: usize| {
+            let simplex = self.mesh.simplex(e);
+            let dm_inv = self.mesh.rest_elements()[e].dm_inv;
+            let ds = edge_matrix(x, simplex);
+            let dds = edge_matrix(dx, simplex);
+            let ratio = |t: f64| determinant(&((ds + dds * t) * dm_inv));
+            let j0 = ratio(0.0);
+            // J(t) = det(F + t dF), dF = dD_s D_m^{-1}, in closed form.
+            let mut volume = Polynomial::determinant_of_line(&(ds * dm_inv), &(dds * dm_inv));
+            if !(j0 > 0.0) {
+                // Already flat or inverted (not reachable by a guarded
+                // step): only keep it from crossing zero again.
+                return first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+            }
+            if !(j0 > MIN_VOLUME_RATIO) {
+                // At the floor: the element may not shrink any further.
+                // `(J(t) - J(0)) / t` must stay positive.
+                let growth = volume.without_constant();
+                if !(growth.coefficients()[0] > 0.0) {
+                    return 0.0;
                 }
-                let mut volume = Polynomial::interpolate(D, ratio);
-                if !(j0 > MIN_VOLUME_RATIO) {
-                    // At the floor: the element may not shrink any further.
-                    // `(J(t) - J(0)) / t` must stay positive.
-                    volume.coefficients.remove(0);
-                    if !(volume.coefficients[0] > 0.0) {
-                        return 0.0;
-                    }
-                    return first_root_in(&volume, 1.0)
-                        .map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
-                }
-                volume.coefficients[0] -= MIN_VOLUME_RATIO;
-                let mut cap =
-                    first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
-                // Round-off in the coefficients: check `J` at the cap itself.
-                let mut halvings = 0;
-                while !(ratio(cap) > MIN_VOLUME_RATIO) && halvings < 60 {
-                    cap *= 0.5;
-                    halvings += 1;
-                }
-                if halvings == 60 { 0.0 } else { cap }
-            })
-            .collect();
-        caps.into_iter().fold(1.0, f64::min)
+                return first_root_in(&growth, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+            }
+            volume.coefficients_mut()[0] -= MIN_VOLUME_RATIO;
+            // For t in [0, 1], J(t) - floor >= c_0 - sum of the negative
+            // higher coefficients: when that is positive (most elements,
+            // most steps) there is no root to look for.
+            let lower_bound = volume.coefficients()[1..]
+                .iter()
+                .fold(volume.coefficients()[0], |bound, c| bound + c.min(0.0));
+            let mut cap = if lower_bound > 0.0 {
+                1.0
+            } else {
+                first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t)
+            };
+            // Round-off in the coefficients: check `J` at the cap itself.
+            let mut halvings = 0;
+            while !(ratio(cap) > MIN_VOLUME_RATIO) && halvings < 60 {
+                cap *= 0.5;
+                halvings += 1;
+            }
+            if halvings == 60 { 0.0 } else { cap }
+        };
+        // The minimum does not depend on the order: no need for a fixed one.
+        let count = self.mesh.element_count();
+        if count < PARALLEL_MIN_ELEMENTS {
+            (0..count).map(cap).fold(1.0, f64::min)
+        } else {
+            (0..count)
+                .into_par_iter()
+                .with_min_len(ELEMENTS_PER_TASK)
+                .map(cap)
+                .reduce(|| 1.0, f64::min)
+        }
     }
 }

@@ -26,6 +26,7 @@
 
 mod body_elasticity;
 mod elasticity;
+mod element_derivatives;
 mod element_field;
 mod gravity;
 mod ground_barrier;
@@ -51,6 +52,19 @@ pub trait EnergyTerm<const D: usize>: Send + Sync {
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]);
     /// Adds `scale * d2E/dx2`, projected to be positive semi-definite, into `hessian`.
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>);
+    /// Both [`Self::add_gradient`] and [`Self::add_hessian`]; a term whose
+    /// two share work (the elasticity: `F`, `P`, `dP/dF` per element) does
+    /// them in one pass. The default calls the two.
+    fn add_gradient_and_hessian(
+        &self,
+        x: &[Vector<D>],
+        scale: f64,
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        self.add_gradient(x, scale, gradient);
+        self.add_hessian(x, scale, hessian);
+    }
     /// The largest `t` in `(0, 1]` such that the whole segment `x + s dx`,
     /// `0 <= s <= t`, stays feasible for this term, with a safety margin.
     fn max_step(&self, _x: &[Vector<D>], _dx: &[Vector<D>]) -> f64 {

@@ -45,6 +45,11 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     fn first_piola(&self, f: &Matrix<D>) -> Matrix<D>;
     /// `dP/dF`, as `D x D` blocks: `result[k][l] = dP/dF_kl`.
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D>;
+    /// `P` and `dP/dF` together (the element kernel's one call per element);
+    /// a material may share the work of the two (an inverse, a logarithm).
+    fn first_piola_and_derivative(&self, f: &Matrix<D>) -> (Matrix<D>, StressDerivative<D>) {
+        (self.first_piola(f), self.first_piola_derivative(f))
+    }
     /// Whether the energy is infinite for `det F <= 0`. For information only:
     /// the line search keeps every element uninverted whatever the material
     /// (`Elasticity::max_step`).

@@ -97,7 +97,9 @@ mod polynomial;
 mod psd;
 
 pub use polynomial::{Polynomial, first_root_in};
-pub use psd::project_to_psd;
+pub use psd::{
+    project_isotropic_stress_derivative_to_psd, project_stress_derivative_to_psd, project_to_psd,
+};
 
 #[cfg(test)]
 mod tests {

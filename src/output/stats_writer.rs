@@ -36,6 +36,7 @@ const TRAILING_COLUMNS: &[&str] = &[
     "stalled_steps",
     "assembly_ms",
     "factorisation_ms",
+    "solve_ms",
     "line_search_ms",
     "render_ms",
     "encode_ms",
@@ -55,11 +56,12 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// smallest `J = det F` over the elements; `sim_ms`: wall time spent
 /// simulating the frame; `unconverged_steps`: steps that hit the iteration
 /// cap; `stalled_steps`: steps whose line search stalled before the
-/// tolerance; `assembly_ms`, `factorisation_ms`, `line_search_ms`: the wall
-/// time of each solver phase; `render_ms`: drawing the frame's image (draw,
-/// readback, legend), `encode_ms`: encoding and writing it (PNG frame and
-/// videos, on worker threads), both 0 without rendering and empty for frames
-/// a failed run never rendered.
+/// tolerance; `assembly_ms`, `factorisation_ms`, `solve_ms` (the triangular
+/// solves), `line_search_ms`: the wall time of each solver phase;
+/// `render_ms`: drawing the frame's image (draw, readback, legend),
+/// `encode_ms`: encoding and writing it (PNG frame and videos, on worker
+/// threads), both 0 without rendering and empty for frames a failed run
+/// never rendered.
 pub fn stats_columns(energy_names: &[&str]) -> Vec<String> {
     LEADING_COLUMNS
         .iter()
@@ -158,7 +160,7 @@ impl StatsWriter {
         let min_height = stats.min_height.map(|h| h.to_string()).unwrap_or_default();
         write!(
             row,
-            ",{},{},{},{},{min_height},{},{:.3},{},{},{:.3},{:.3},{:.3}",
+            ",{},{},{},{},{min_height},{},{:.3},{},{},{:.3},{:.3},{:.3},{:.3}",
             stats.energy.total(),
             com(0),
             com(1),
@@ -169,6 +171,7 @@ impl StatsWriter {
             stats.stalled_steps,
             ms(stats.times.assembly),
             ms(stats.times.factorisation),
+            ms(stats.times.solve),
             ms(stats.times.line_search),
         )
         .expect("formatting into a String cannot fail");

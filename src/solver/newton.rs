@@ -49,8 +49,7 @@ pub fn newton<const D: usize>(
     while stats.iterations < max_iterations {
         stats.iterations += 1;
         let start = Instant::now();
-        objective.gradient(x, &mut gradient);
-        objective.hessian(x, hessian);
+        objective.gradient_and_hessian(x, &mut gradient, hessian);
         stats.times.assembly += start.elapsed();
 
         let start = Instant::now();
@@ -59,12 +58,18 @@ pub fn newton<const D: usize>(
         if flat.iter().any(|v| !v.is_finite()) {
             return Err(SolveError::NonFinite("the gradient is not finite"));
         }
-        hessian
-            .factor_and_solve(&mut flat)
-            .map_err(SolveError::Factorisation)?;
+        let mut solve_time = start.elapsed();
+
+        let start = Instant::now();
+        hessian.factorise().map_err(SolveError::Factorisation)?;
+        stats.times.factorisation += start.elapsed();
+
+        let start = Instant::now();
+        hessian.solve(&mut flat);
         hessian.scatter_free(&flat, &mut direction);
         stats.linear_solves += 1;
-        stats.times.factorisation += start.elapsed();
+        solve_time += start.elapsed();
+        stats.times.solve += solve_time;
 
         stats.residual = flat.iter().fold(0.0f64, |m, v| m.max(v.abs())) / dt;
 

@@ -40,6 +40,22 @@ impl<'a, const D: usize> Objective<'a, D> {
         }
     }
 
+    /// `grad E(x)` and the projected Hessian in one pass per term (what a
+    /// Newton iteration needs; the elasticity computes `F`, `P` and `dP/dF`
+    /// once per element for both).
+    pub fn gradient_and_hessian(
+        &self,
+        x: &[Vector<D>],
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        gradient.iter_mut().for_each(|g| *g = Vector::<D>::zeros());
+        hessian.clear();
+        for (term, weight) in &self.terms {
+            term.add_gradient_and_hessian(x, *weight, gradient, hessian);
+        }
+    }
+
     /// The largest feasible fraction of the step `dx` (contact, inversion).
     pub fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         self.terms

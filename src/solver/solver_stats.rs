@@ -7,8 +7,10 @@ use std::time::Duration;
 pub struct PhaseTimes {
     /// Gradient and Hessian assembly, including PSD projection.
     pub assembly: Duration,
-    /// Sparse Cholesky (numeric) factorisation and solve.
+    /// Sparse Cholesky numeric factorisation.
     pub factorisation: Duration,
+    /// Triangular solves with the factor (and the right-hand side's copies).
+    pub solve: Duration,
     /// Line search (step capping, energy evaluations).
     pub line_search: Duration,
 }
@@ -17,6 +19,7 @@ impl std::ops::AddAssign for PhaseTimes {
     fn add_assign(&mut self, other: Self) {
         self.assembly += other.assembly;
         self.factorisation += other.factorisation;
+        self.solve += other.solve;
         self.line_search += other.line_search;
     }
 }

@@ -1,0 +1,178 @@
+//! No heap per element or per iteration: a counting global allocator shows
+//! that, after a warm-up, the Newton iteration's assembly (gradient and
+//! projected Hessian of the elasticity, the gather) allocates nothing on a
+//! small mesh and the same handful of times on a mesh 36x larger, and that
+//! a whole time step allocates a fixed number of times whatever the mesh size.
+//!
+//! Everything runs in one test function: the counter is global, and tests of
+//! one binary run on parallel threads.
+
+mod support;
+
+use elasto::assembly::SparseHessian;
+use elasto::energy::{BodyElasticity, Elasticity, EnergyTerm};
+use elasto::math::Vector;
+use elasto::mesh::Mesh;
+use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use support::*;
+
+struct CountingAllocator;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+/// Allocations made while `work` runs.
+fn allocations_of(work: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    work();
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+fn square(cells: usize) -> Mesh<2> {
+    Mesh::axis_aligned_box(
+        Vector::<2>::zeros(),
+        Vector::<2>::from_element(1.0),
+        [cells; 2],
+    )
+    .unwrap()
+}
+
+/// Allocations of one gradient-and-Hessian pass of the elasticity of an
+/// `n x n` square (after a warm-up pass), single body and two bodies.
+fn assembly_allocations(cells: usize) -> (usize, usize) {
+    let mesh = Arc::new(square(cells));
+    let mut rng = Rng::new(7);
+    let x = perturbed(mesh.rest_positions(), 0.02, &mut rng);
+    let free = (0..mesh.vertex_count()).map(Some).collect();
+    let mut hessian = SparseHessian::new(&mesh, free).unwrap();
+    let mut gradient = vec![Vector::<2>::zeros(); mesh.vertex_count()];
+    let elasticity = Elasticity::new(mesh.clone(), neo_hookean());
+    let mut pass = || {
+        hessian.clear();
+        elasticity.add_gradient_and_hessian(&x, 1e-4, &mut gradient, &mut hessian);
+    };
+    pass();
+    let single = allocations_of(pass);
+
+    // Two bodies, each the square: their slots fill the scene Hessian directly.
+    let both = Mesh::new(
+        mesh.rest_positions()
+            .iter()
+            .chain(mesh.rest_positions())
+            .copied()
+            .collect(),
+        mesh.simplices()
+            .chain(mesh.simplices())
+            .enumerate()
+            .map(|(e, s)| {
+                let shift = if e < mesh.element_count() {
+                    0
+                } else {
+                    mesh.vertex_count()
+                };
+                s.iter().map(|v| v + shift).collect()
+            })
+            .collect(),
+    )
+    .unwrap();
+    let bodies =
+        BodyElasticity::bodies(vec![(mesh.clone(), neo_hookean()), (mesh.clone(), stvk())])
+            .unwrap();
+    let x2: Vec<_> = x.iter().chain(&x).copied().collect();
+    let free = (0..both.vertex_count()).map(Some).collect();
+    let mut hessian = SparseHessian::new(&both, free).unwrap();
+    let mut gradient = vec![Vector::<2>::zeros(); both.vertex_count()];
+    let mut pass = || {
+        hessian.clear();
+        bodies.add_gradient_and_hessian(&x2, 1e-4, &mut gradient, &mut hessian);
+    };
+    pass();
+    (single, allocations_of(pass))
+}
+
+/// Allocations of the 4th time step of the square dropping on the ground.
+fn step_allocations(cells: usize) -> (usize, usize) {
+    let mesh = square(cells);
+    let effects = Effects {
+        gravity: Some(Vector::<2>::new(0.0, -9.81)),
+        ground: Some(Ground {
+            height: -0.02,
+            activation_distance: 0.05,
+            stiffness: None,
+        }),
+        pinned: Vec::new(),
+    };
+    let settings = SimulationSettings {
+        dt: 0.01,
+        ..Default::default()
+    };
+    let velocity = Vector::<2>::new(0.0, -1.0);
+    let mut sim =
+        Simulation::new(mesh, neo_hookean(), 1000.0, effects, settings, velocity).unwrap();
+    for _ in 0..3 {
+        sim.step().unwrap();
+    }
+    let mut iterations = 0;
+    let count = allocations_of(|| iterations = sim.step().unwrap().solver.iterations);
+    (count, iterations)
+}
+
+#[test]
+fn assembly_and_steps_allocate_independently_of_the_mesh_size() {
+    // 200 triangles (below the parallel threshold) and 7200 (split across threads).
+    let (small_single, small_bodies) = assembly_allocations(10);
+    let (large_single, large_bodies) = assembly_allocations(60);
+    assert_eq!(
+        (small_single, small_bodies),
+        (0, 0),
+        "a sequential assembly pass allocates nothing"
+    );
+    // A parallel pass may let rayon allocate a few job records, never per element.
+    assert!(
+        large_single <= 16 && large_bodies <= 32,
+        "a parallel assembly pass of 7200 triangles allocated {large_single} times \
+         (two bodies: {large_bodies})"
+    );
+
+    // A whole step: solver vectors, statistics, the per-step copies. The
+    // count grows with the Newton iterations (a few per iteration), not
+    // with the elements.
+    let (small_step, small_iterations) = step_allocations(10);
+    let (large_step, large_iterations) = step_allocations(40);
+    let per_iteration = |count: usize, iterations: usize| count as f64 / iterations.max(1) as f64;
+    println!(
+        "step allocations: 10x10 {small_step} ({small_iterations} iterations), \
+         40x40 {large_step} ({large_iterations} iterations)"
+    );
+    assert!(
+        small_step < 100 && large_step < 100 + 16 * large_iterations,
+        "a step allocated {small_step} (10 x 10) and {large_step} (40 x 40) times"
+    );
+    assert!(
+        per_iteration(large_step, large_iterations)
+            <= per_iteration(small_step, small_iterations) + 16.0,
+        "allocations per iteration grow with the mesh: {small_step}/{small_iterations} \
+         against {large_step}/{large_iterations}"
+    );
+}
