@@ -201,6 +201,8 @@ fn a_series_of_the_reports_method_and_a_mesh_study_by_centre_of_mass() {
             "time.integrator=newmark;mesh.cells=[16,2]",
             "--reference",
             "mesh.cells=[32,4]",
+            "--clock",
+            "cpu",
             "-o",
             "s",
             "-q",

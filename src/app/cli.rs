@@ -103,6 +103,10 @@ pub struct StudyArgs {
     /// Time every run this many times and report the median wall time (1 to 100).
     #[arg(long, value_name = "K", default_value_t = 1)]
     pub repeat: usize,
+    /// The time study.png plots errors against: wall time, or the process's CPU
+    /// time (all threads; steadier on a shared machine).
+    #[arg(long, value_enum, default_value_t = StudyClock::Wall)]
+    pub clock: StudyClock,
     /// Output folder (default: out/studies/SCENE_NAME).
     #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,
@@ -231,6 +235,15 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
             "`{s}`: I and N must be whole numbers with 0 <= I < N (shards are numbered from 0)"
         )),
     }
+}
+
+/// The `--clock` choices of `elasto study`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum StudyClock {
+    /// Wall time: what a user waits.
+    Wall,
+    /// CPU time of the process, all threads.
+    Cpu,
 }
 
 /// The `--video` choices.

@@ -13,7 +13,7 @@
 //! 4. `study.csv`, `study.md`, `study.png`, and the observed order of
 //!    convergence in `dt` of each series printed on stdout.
 
-use super::cli::StudyArgs;
+use super::cli::{StudyArgs, StudyClock};
 use super::preflight::SceneInput;
 use super::progress::{Progress, ProgressMode};
 use super::{AppError, build_simulation, scene_overrides};
@@ -219,15 +219,25 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
             Some(PlotPoint {
                 series: row.series.clone(),
                 label: run.short_label.clone(),
-                wall_ms: row.wall_ms,
+                time_ms: match args.clock {
+                    StudyClock::Wall => row.wall_ms,
+                    StudyClock::Cpu => row.cpu_ms,
+                },
                 error: errors.trajectory,
             })
         })
         .collect();
+    let time_axis = match args.clock {
+        StudyClock::Wall => "wall time (ms)",
+        StudyClock::Cpu => "CPU time (ms, all threads)",
+    };
     let pixels = work_precision_plot(
         &plot_points,
-        &format!("{name}: error against wall time"),
-        error_axis,
+        &format!(
+            "{name}: error against {}",
+            &time_axis[..time_axis.find(" (").unwrap_or(time_axis.len())]
+        ),
+        (time_axis, error_axis),
         PLOT_SIZE,
     )
     .map_err(|reason| AppError::Plot { reason })?;

@@ -11,8 +11,8 @@ pub struct PlotPoint {
     pub series: String,
     /// Its label: the run's values of the varied keys that are not the series'.
     pub label: String,
-    /// Wall time, in milliseconds.
-    pub wall_ms: f64,
+    /// Time the run took (wall or CPU, as the axis says), in milliseconds.
+    pub time_ms: f64,
     /// Trajectory error (length units).
     pub error: f64,
 }
@@ -23,14 +23,14 @@ pub struct PlotPoint {
 pub fn work_precision_plot(
     points: &[PlotPoint],
     title: &str,
-    error_axis: &str,
+    (time_axis, error_axis): (&str, &str),
     (width, height): (u32, u32),
 ) -> Result<Vec<u8>, String> {
     register_font();
     let shown: Vec<&PlotPoint> = points
         .iter()
         .filter(|p| {
-            p.wall_ms > 0.0 && p.error > 0.0 && p.wall_ms.is_finite() && p.error.is_finite()
+            p.time_ms > 0.0 && p.error > 0.0 && p.time_ms.is_finite() && p.error.is_finite()
         })
         .collect();
     let (x_range, y_range) = log_ranges(&shown);
@@ -47,7 +47,7 @@ pub fn work_precision_plot(
             .map_err(|e| e.to_string())?;
         chart
             .configure_mesh()
-            .x_desc("wall time (ms)")
+            .x_desc(time_axis)
             .y_desc(error_axis)
             .x_label_formatter(&|x| tick(*x))
             .y_label_formatter(&|y| format!("{y:.0e}"))
@@ -69,8 +69,8 @@ pub fn work_precision_plot(
                 .copied()
                 .filter(|p| p.series == *name)
                 .collect();
-            members.sort_by(|a, b| a.wall_ms.total_cmp(&b.wall_ms));
-            let line: Vec<(f64, f64)> = members.iter().map(|p| (p.wall_ms, p.error)).collect();
+            members.sort_by(|a, b| a.time_ms.total_cmp(&b.time_ms));
+            let line: Vec<(f64, f64)> = members.iter().map(|p| (p.time_ms, p.error)).collect();
             chart
                 .draw_series(LineSeries::new(line.clone(), colour.stroke_width(2)))
                 .map_err(|e| e.to_string())?
@@ -82,11 +82,10 @@ pub fn work_precision_plot(
                 .draw_series(line.iter().map(|&p| Circle::new(p, 4, colour.filled())))
                 .map_err(|e| e.to_string())?;
             chart
-                .draw_series(
-                    members.iter().map(|p| {
-                        Text::new(p.label.clone(), (p.wall_ms, p.error), ("sans-serif", 12))
-                    }),
-                )
+                .draw_series(members.iter().map(|p| {
+                    EmptyElement::at((p.time_ms, p.error))
+                        + Text::new(p.label.clone(), (6, -14), ("sans-serif", 12))
+                }))
                 .map_err(|e| e.to_string())?;
         }
         if !series_names.is_empty() {
@@ -148,7 +147,7 @@ fn log_ranges(points: &[&PlotPoint]) -> (std::ops::Range<f64>, std::ops::Range<f
         }
     };
     (
-        bounds(points.iter().map(|p| p.wall_ms).collect()),
+        bounds(points.iter().map(|p| p.time_ms).collect()),
         bounds(points.iter().map(|p| p.error).collect()),
     )
 }
@@ -170,11 +169,11 @@ fn register_font() {
 mod tests {
     use super::*;
 
-    fn point(series: &str, label: &str, wall_ms: f64, error: f64) -> PlotPoint {
+    fn point(series: &str, label: &str, time_ms: f64, error: f64) -> PlotPoint {
         PlotPoint {
             series: series.into(),
             label: label.into(),
-            wall_ms,
+            time_ms,
             error,
         }
     }
@@ -189,7 +188,13 @@ mod tests {
             point("newton / bdf2", "failed", f64::NAN, 1.0),
         ];
         let (w, h) = (640, 480);
-        let pixels = work_precision_plot(&points, "study", "trajectory error", (w, h)).unwrap();
+        let pixels = work_precision_plot(
+            &points,
+            "study",
+            ("wall time (ms)", "trajectory error"),
+            (w, h),
+        )
+        .unwrap();
         assert_eq!(pixels.len(), (w * h * 3) as usize);
         let white = pixels.chunks(3).filter(|p| p == &[255, 255, 255]).count();
         let dark = pixels
@@ -209,7 +214,7 @@ mod tests {
 
     #[test]
     fn no_points_still_draws_axes() {
-        let pixels = work_precision_plot(&[], "empty", "error", (320, 240)).unwrap();
+        let pixels = work_precision_plot(&[], "empty", ("time", "error"), (320, 240)).unwrap();
         assert!(pixels.chunks(3).any(|p| p.iter().all(|&c| c < 80)));
     }
 }
