@@ -673,3 +673,84 @@ fn a_folder_not_made_by_the_sweep_is_not_written_into() {
         "my notes"
     );
 }
+
+/// A 6 x 6 grid: 36 runs, every one on the contact sheet (within its size
+/// bound) and in the MP4 comparison, frame by frame.
+#[test]
+fn thirty_six_runs_fill_the_contact_sheet_and_the_comparison_video() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto(
+        tmp.path(),
+        &[
+            "sweep",
+            "report-drop-2d",
+            "--vary",
+            "material.young=linspace(100,3000,6)",
+            "--vary",
+            "mesh.velocity=[0,0],[1,0],[2,0],[-1,0],[-2,0],[0,2]",
+            "--set",
+            "time.fps=10",
+            "--frames",
+            "3",
+            "--resolution",
+            "32x24",
+            "--video",
+            "mp4",
+            "--out",
+            "grid",
+            "--jobs",
+            "2",
+            "-q",
+        ],
+    );
+    assert_code(&o, 0);
+    let grid = tmp.path().join("grid");
+    let table = sweep_table(&grid);
+    assert_eq!(table.len(), 36);
+    assert!(table.iter().all(|row| row["status"] == "ok"), "{table:?}");
+    // Six columns of tiles no larger than the frames, plus their labels.
+    let sheet = png_pixels(&grid.join("contact_sheet.png"));
+    let (w, h) = sheet.dimensions();
+    assert!(
+        (6 * 32..=3840).contains(&w) && (6 * 24..=3840).contains(&h),
+        "{w}x{h}"
+    );
+    // Every run's last frame appears in the sheet, pixel for pixel.
+    let runs = folders(&grid);
+    assert_eq!(runs.len(), 36);
+    let mut found = 0;
+    for run in &runs {
+        let frame = png_pixels(&grid.join(run).join("frames").join("frame_0002.png"));
+        let (fw, fh) = frame.dimensions();
+        let here = (0..=h - fh).any(|y| {
+            (0..=w - fw).any(|x| {
+                (0..fh).all(|dy| {
+                    (0..fw).all(|dx| sheet.get_pixel(x + dx, y + dy) == frame.get_pixel(dx, dy))
+                })
+            })
+        });
+        found += usize::from(here);
+    }
+    assert_eq!(found, 36, "tiles found in the contact sheet");
+    // The comparison video has one frame per frame of the runs.
+    let probe = std::process::Command::new("ffprobe")
+        .args([
+            "-v",
+            "error",
+            "-count_frames",
+            "-select_streams",
+            "v:0",
+            "-show_entries",
+            "stream=nb_read_frames,width,height",
+            "-of",
+            "csv=p=0",
+        ])
+        .arg(grid.join("comparison.mp4"))
+        .output()
+        .expect("ffprobe (installed with ffmpeg by .ci/run) runs");
+    let text = String::from_utf8_lossy(&probe.stdout);
+    let fields: Vec<u32> = text.trim().split(',').map(|f| f.parse().unwrap()).collect();
+    let (vw, vh, frames) = (fields[0], fields[1], fields[2]);
+    assert_eq!(frames, 3, "{text}");
+    assert!(vw <= 1920 && vh <= 1080 && vw >= 6 * 16, "{vw}x{vh}");
+}

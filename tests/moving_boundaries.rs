@@ -85,6 +85,7 @@ both_dimensions! {
     until_stops_the_region_where_the_path_left_it => until_stops_2d, until_stops_3d;
     pulled_bar_carries_the_analytic_static_force => pulled_bar_2d, pulled_bar_3d;
     dragged_body_ends_up_moving_with_the_region => dragged_body_2d, dragged_body_3d;
+    a_released_region_lets_its_vertices_go => released_region_2d, released_region_3d;
 }
 
 /// A left end moving at constant `v`: every pinned vertex at `X + v t`
@@ -631,4 +632,64 @@ fn a_body_region_moves_like_an_effects_region() {
         let expected = if rest[1] > 2.0 { rest + v * t } else { rest };
         assert!((sim.positions()[vertex] - expected).amax() <= round_off(4.0));
     }
+}
+
+/// A left end dragging a bar at `v`, released at t = 0.2 s while it moves:
+/// on its path to round-off until then, then its vertices are unknowns like
+/// the others, and with no external force the body's momentum stays what it
+/// was at the release (backward Euler conserves linear momentum).
+fn a_released_region_lets_its_vertices_go<const D: usize>() {
+    let v = Vector::<D>::from_fn(|k, _| [0.5, -0.25, 0.25][k]);
+    let region = end::<D>(-1.0, 1e-9).moving(PinMotion {
+        velocity: v,
+        release: Some(0.2),
+        ..PinMotion::default()
+    });
+    let mut sim = simulation(
+        bar::<D>(2.0, 4),
+        material(MaterialModel::NeoHookean, 50.0, 0.3),
+        vec![region],
+        0.01,
+        IntegratorKind::BackwardEuler,
+    );
+    let pinned = pinned_vertices(&sim);
+    assert!(!pinned.is_empty());
+    let momentum = |sim: &Simulation<D>| -> Vector<D> {
+        sim.velocities()
+            .iter()
+            .zip(sim.masses())
+            .fold(Vector::<D>::zeros(), |p, (v, m)| p + v * *m)
+    };
+    for step in 1..=20 {
+        sim.step().unwrap();
+        for &(vertex, rest) in &pinned {
+            let expected = rest + v * sim.time();
+            assert!(
+                (sim.positions()[vertex] - expected).amax() <= round_off(2.0),
+                "step {step}"
+            );
+        }
+    }
+    assert!(
+        sim.free_index().iter().any(Option::is_none),
+        "held until t = 0.2"
+    );
+    sim.step().unwrap();
+    assert!(
+        sim.free_index().iter().all(Option::is_some),
+        "released at t = 0.2"
+    );
+    let at_release = momentum(&sim);
+    // The end was pulled: the body is not yet moving rigidly with v.
+    let released_end = sim.positions()[pinned[0].0] - pinned[0].1;
+    assert!(released_end.amax() > 0.0);
+    for _ in 0..50 {
+        assert!(sim.step().unwrap().solver.converged);
+        let drift = (momentum(&sim) - at_release).amax();
+        assert!(drift < 1e-8 * at_release.amax(), "momentum drift {drift}");
+    }
+    // The released vertices moved off the path they would have followed.
+    let (vertex, rest) = pinned[0];
+    let on_path = rest + v * sim.time();
+    assert!((sim.positions()[vertex] - on_path).amax() > 1e-6);
 }

@@ -47,7 +47,8 @@ fn profile_prints_every_phase_and_stats_carry_render_times() {
     let table = stdout(&o);
     for phase in [
         "assembly",
-        "factorisation + solve",
+        "factorisation",
+        "solve",
         "line search",
         "other simulation",
     ] {

@@ -227,6 +227,8 @@ pub(crate) struct RawPinned {
     pub center: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub until: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub release: Option<f64>,
 }
 
 /// `[[effects.pinned]]`: an array of regions, or (the older form) one

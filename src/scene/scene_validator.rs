@@ -196,7 +196,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
 
     /// A pinned box `min`..`max` at `key` (`effects.pinned[i]`, `pinned`)
     /// and its motion (`velocity`, `angular_velocity`, `axis`, `center`,
-    /// `until`).
+    /// `until`, `release`).
     fn pin_region<const D: usize>(&self, key: &str, p: &RawPinned) -> VResult<PinRegion<D>> {
         let min = self.vector::<D>(&format!("{key}.min"), &p.min)?;
         let max = self.vector::<D>(&format!("{key}.max"), &p.max)?;
@@ -280,6 +280,15 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 ));
             }
             motion.until = Some(until);
+        }
+        if let Some(release) = p.release {
+            if !(release > 0.0 && release.is_finite()) {
+                return Err(self.err(
+                    &format!("{key}.release"),
+                    format!("must be a finite time > 0 (s), got {}", num(release)),
+                ));
+            }
+            motion.release = Some(release);
         }
         Ok(region.moving(motion))
     }

@@ -42,6 +42,10 @@ pub struct PinMotion<const D: usize> {
     /// Time after which the region stands still, in s (default: `None`,
     /// never).
     pub until: Option<f64>,
+    /// Time at which the region lets go: from the first step that starts at
+    /// or after it, its vertices are free unknowns, starting from where the
+    /// path left them with the path's velocity (`None`: held for the whole run).
+    pub release: Option<f64>,
 }
 
 impl<const D: usize> Default for PinMotion<D> {
@@ -52,6 +56,7 @@ impl<const D: usize> Default for PinMotion<D> {
             axis: Vector3::z(),
             center: Vector::<D>::zeros(),
             until: None,
+            release: None,
         }
     }
 }

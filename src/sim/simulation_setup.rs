@@ -335,7 +335,8 @@ fn pin_labels<const D: usize>(
     own.chain(of_bodies).collect()
 }
 
-/// A motion's numbers must be finite, its axis a unit vector and `until >= 0`.
+/// A motion's numbers must be finite, its axis a unit vector, `until >= 0`
+/// and `release > 0`.
 fn check_motion<const D: usize>(label: &str, motion: &PinMotion<D>) -> Result<(), SimError> {
     let finite = motion.velocity.iter().all(|v| v.is_finite())
         && motion.angular_velocity.is_finite()
@@ -361,6 +362,14 @@ fn check_motion<const D: usize>(label: &str, motion: &PinMotion<D>) -> Result<()
         return Err(invalid(
             "pinned",
             format!("{label}: `until` must be a finite time >= 0, got {until}"),
+        ));
+    }
+    if let Some(release) = motion.release
+        && !(release > 0.0 && release.is_finite())
+    {
+        return Err(invalid(
+            "pinned",
+            format!("{label}: `release` must be a finite time > 0, got {release}"),
         ));
     }
     Ok(())

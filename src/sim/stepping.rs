@@ -1,4 +1,4 @@
-//! Advancing a simulation: one step puts the pinned vertices on their paths, then runs a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential, and the integrator's velocity update.
+//! Advancing a simulation: one step frees the pinned regions whose release time has come, puts the pinned vertices on their paths, then runs a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential, and the integrator's velocity update.
 
 use super::{FrameStats, SimError, Simulation, StepStats};
 use crate::energy::EnergyTerm;
@@ -24,6 +24,7 @@ impl<const D: usize> Simulation<D> {
     /// Advances one step; only the solver's statistics (no state measures).
     fn solve_step(&mut self) -> Result<SolverStats, SimError> {
         let dt = self.settings.dt;
+        self.release_pins()?;
         let previous = self.positions.clone();
         let end_time = self.time + dt;
         // The scheme starts from x_n (its history and velocity update), even
@@ -101,6 +102,53 @@ impl<const D: usize> Simulation<D> {
         self.time += dt;
         self.steps += 1;
         Ok(stats)
+    }
+
+    /// Frees the vertices of every region whose `release` time has come (the
+    /// step starts at or after it, within half a step of round-off): they
+    /// become unknowns, from where their path left them and with its
+    /// velocity, and the sparse pattern is rebuilt for the new unknowns.
+    fn release_pins(&mut self) -> Result<(), SimError> {
+        let half_step = 0.5 * self.settings.dt;
+        let released = |motion: &super::PinMotion<D>| {
+            motion
+                .release
+                .is_some_and(|release| self.time >= release - half_step)
+        };
+        if !self
+            .pinned
+            .iter()
+            .any(|p| released(&self.motions[p.motion]))
+        {
+            return Ok(());
+        }
+        let motions = &self.motions;
+        self.pinned.retain(|p| {
+            !motions[p.motion]
+                .release
+                .is_some_and(|release| self.time >= release - half_step)
+        });
+        let mut is_pinned = vec![false; self.positions.len()];
+        for p in &self.pinned {
+            is_pinned[p.vertex] = true;
+        }
+        let mut next = 0;
+        let free_index: Vec<Option<usize>> = is_pinned
+            .iter()
+            .map(|&pinned| {
+                (!pinned).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        self.hessian =
+            crate::assembly::SparseHessian::new(&self.mesh, free_index).map_err(|e| {
+                SimError::SetupFailure {
+                    reason: format!("releasing pinned vertices at t = {}: {e}", self.time),
+                }
+            })?;
+        Ok(())
     }
 
     /// Puts every pinned vertex on its path at time `t`: the start of the
