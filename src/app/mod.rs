@@ -57,6 +57,34 @@ fn scene_overrides(set: &[String]) -> Result<Vec<SceneOverride>, SceneError> {
     set.iter().map(|s| s.parse()).collect()
 }
 
+/// The overrides the shortcut flags stand for: `--frames N` replaces
+/// `time.duration` / `time.frames`, `--resolution WxH` sets
+/// `render.resolution`; each reported as the flag the user typed.
+fn shortcut_overrides(
+    frames: Option<i64>,
+    resolution: Option<(u32, u32)>,
+) -> Result<Vec<SceneOverride>, SceneError> {
+    let mut overrides = Vec::new();
+    if let Some(frames) = frames {
+        let flag = format!("--frames {frames}");
+        overrides.push(SceneOverride::remove("time.duration", flag.clone())?);
+        overrides.push(SceneOverride::set(
+            "time.frames",
+            &frames.to_string(),
+            flag,
+        )?);
+    }
+    if let Some((w, h)) = resolution {
+        let flag = format!("--resolution {w}x{h}");
+        overrides.push(SceneOverride::set(
+            "render.resolution",
+            &format!("[{w}, {h}]"),
+            flag,
+        )?);
+    }
+    Ok(overrides)
+}
+
 /// Builds a scene's mesh and simulation (no steps taken), after checking
 /// that it fits in memory, and checks what only the built simulation knows:
 /// the barrier stiffness against the automatic one and a finite starting

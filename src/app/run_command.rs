@@ -17,7 +17,7 @@ use super::progress::{Progress, ProgressMode};
 use super::render_stage::RenderStage;
 use super::run_health::RunHealth;
 use super::run_profile::RunProfile;
-use super::{AppError, build_simulation, scene_overrides};
+use super::{AppError, build_simulation, scene_overrides, shortcut_overrides};
 use crate::energy::ElementField;
 use crate::output::{
     MeshSeriesWriter, OutputDir, PendingRow, RenderTimes, StatsWriter, SurfaceFormat,
@@ -27,7 +27,7 @@ use crate::render::{
     FrameCost, RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support,
     video_file_name,
 };
-use crate::scene::{FieldChoice, Scene, SceneConfig, SceneOverride, SceneSource};
+use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
 use crate::sim::FrameStats;
 use std::collections::VecDeque;
 use std::path::PathBuf;
@@ -39,25 +39,7 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
     // 1. Everything the user gave is validated before anything is written.
     let source = SceneSource::resolve(args.scene.as_deref())?;
     let mut overrides = scene_overrides(&args.set)?;
-    if let Some(frames) = args.frames {
-        overrides.push(SceneOverride::remove(
-            "time.duration",
-            format!("--frames {frames}"),
-        )?);
-        overrides.push(SceneOverride::set(
-            "time.frames",
-            &frames.to_string(),
-            format!("--frames {frames}"),
-        )?);
-    }
-    if let Some((w, h)) = args.resolution {
-        let flag = format!("--resolution {w}x{h}");
-        overrides.push(SceneOverride::set(
-            "render.resolution",
-            &format!("[{w}, {h}]"),
-            flag,
-        )?);
-    }
+    overrides.extend(shortcut_overrides(args.frames, args.resolution)?);
     let (scene, resolved) = Scene::load_resolved(&source, &overrides)?;
     let videos = if args.no_render {
         Vec::new()

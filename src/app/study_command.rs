@@ -16,7 +16,7 @@
 use super::cli::{StudyArgs, StudyClock};
 use super::preflight::SceneInput;
 use super::progress::{Progress, ProgressMode};
-use super::{AppError, build_simulation, scene_overrides};
+use super::{AppError, build_simulation, scene_overrides, shortcut_overrides};
 use crate::output::OutputDir;
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource};
 use crate::study::{
@@ -51,15 +51,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
     }
     let source = SceneSource::resolve(Some(&args.scene))?;
     let mut common = scene_overrides(&args.set)?;
-    if let Some(frames) = args.frames {
-        let flag = format!("--frames {frames}");
-        common.push(SceneOverride::remove("time.duration", flag.clone())?);
-        common.push(SceneOverride::set(
-            "time.frames",
-            &frames.to_string(),
-            flag,
-        )?);
-    }
+    common.extend(shortcut_overrides(args.frames, None)?);
 
     // 1. Every run, validated.
     let axes = args

@@ -17,9 +17,9 @@ use super::AppError;
 use super::cli::{SweepArgs, VideoChoice};
 use super::progress::ProgressMode;
 use super::run_command::videos;
-use super::scene_overrides;
+use super::{scene_overrides, shortcut_overrides};
 use crate::render::VideoFormat;
-use crate::scene::{Scene, SceneOverride, SceneSource};
+use crate::scene::{Scene, SceneSource};
 use crate::sweep::{
     ChildRun, CurrentRun, ProgressStyleChoice, RUN_RECORD_FILE, RunIdentity, RunRecord, RunSpec,
     RunStatus, SheetOptions, SweepDescription, SweepError, SweepFile, SweepProgress, VaryAxis,
@@ -152,7 +152,7 @@ impl SweepPlan {
         }
         let source = SceneSource::resolve(Some(&scene))?;
         let shared = scene_overrides(&set)?;
-        let flags = flag_overrides(args)?;
+        let flags = shortcut_overrides(args.frames, args.resolution)?;
         let render = !args.no_render;
         let videos = if render {
             videos(args.video)?
@@ -462,29 +462,6 @@ fn run_flags(args: &SweepArgs) -> Vec<String> {
         VideoChoice::Gif => "gif",
     };
     vec!["--video".into(), video.into()]
-}
-
-/// `--frames` and `--resolution` as the overrides `elasto run` makes of them.
-fn flag_overrides(args: &SweepArgs) -> Result<Vec<SceneOverride>, AppError> {
-    let mut overrides = Vec::new();
-    if let Some(frames) = args.frames {
-        let flag = format!("--frames {frames}");
-        overrides.push(SceneOverride::remove("time.duration", flag.clone())?);
-        overrides.push(SceneOverride::set(
-            "time.frames",
-            &frames.to_string(),
-            flag,
-        )?);
-    }
-    if let Some((w, h)) = args.resolution {
-        let flag = format!("--resolution {w}x{h}");
-        overrides.push(SceneOverride::set(
-            "render.resolution",
-            &format!("[{w}, {h}]"),
-            flag,
-        )?);
-    }
-    Ok(overrides)
 }
 
 fn bad_flag(flag: String, reason: impl Into<String>) -> AppError {

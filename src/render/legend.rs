@@ -2,23 +2,13 @@
 //!
 //! A vertical viridis bar on the right, the label above it and "nice" tick
 //! values (1, 2, 2.5 or 5 times a power of ten) beside it, on a translucent
-//! white panel. Text uses an ASCII-and-symbols subset of DejaVu Sans (see
-//! `fonts/LICENSE-DejaVu.txt`), rasterised with ab_glyph. Sizes scale with the
+//! white panel. Text is drawn by [`super::text`] (an ASCII-and-symbols subset
+//! of DejaVu Sans rasterised with ab_glyph). Sizes scale with the
 //! image height (reference: 720 pixels).
 
 use super::colormap::viridis;
-use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
+use super::text::{self, text_width};
 use image::RgbaImage;
-use std::sync::OnceLock;
-
-static FONT_BYTES: &[u8] = include_bytes!("fonts/DejaVuSans-subset.ttf");
-
-fn font() -> &'static FontRef<'static> {
-    static FONT: OnceLock<FontRef<'static>> = OnceLock::new();
-    FONT.get_or_init(|| {
-        FontRef::try_from_slice(FONT_BYTES).expect("the embedded font is a valid TrueType file")
-    })
-}
 
 /// Text colour, sRGB.
 const INK: [u8; 3] = [40, 40, 46];
@@ -206,46 +196,9 @@ fn format_tick(v: f64, step: f64) -> String {
     text.replace('-', "\u{2212}")
 }
 
-fn text_width(text: &str, px: f32) -> f32 {
-    let font = font().as_scaled(PxScale::from(px));
-    let mut width = 0.0;
-    let mut previous = None;
-    for c in text.chars() {
-        let id = font.glyph_id(c);
-        if let Some(p) = previous {
-            width += font.kern(p, id);
-        }
-        width += font.h_advance(id);
-        previous = Some(id);
-    }
-    width
-}
-
+/// Legend text: the caret and baseline start on whole pixels.
 fn draw_text(image: &mut RgbaImage, text: &str, x: f32, baseline: f32, px: f32) {
-    let font = font().as_scaled(PxScale::from(px));
-    let mut caret = x.round();
-    let mut previous = None;
-    for c in text.chars() {
-        let id = font.glyph_id(c);
-        if let Some(p) = previous {
-            caret += font.kern(p, id);
-        }
-        let glyph = id.with_scale_and_position(px, ab_glyph::point(caret, baseline.round()));
-        caret += font.h_advance(id);
-        previous = Some(id);
-        if let Some(outline) = font.outline_glyph(glyph) {
-            let bounds = outline.px_bounds();
-            outline.draw(|gx, gy, coverage| {
-                blend(
-                    image,
-                    bounds.min.x as i64 + gx as i64,
-                    bounds.min.y as i64 + gy as i64,
-                    INK,
-                    coverage,
-                );
-            });
-        }
-    }
+    text::draw_text(image, text, x.round(), baseline.round(), px, INK);
 }
 
 fn blend(image: &mut RgbaImage, x: i64, y: i64, colour: [u8; 3], alpha: f32) {

@@ -34,6 +34,7 @@ mod mp4_writer;
 mod partial_file;
 mod renderer;
 mod sequence;
+mod text;
 mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
@@ -44,6 +45,7 @@ pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
 pub use partial_file::remove_partial_files;
 pub use renderer::{FrameTimings, Renderer};
 pub use sequence::{FrameCost, SequenceWriter, render_sequence};
+pub use text::{FONT_BYTES, draw_text, text_width};
 pub use video::file_name as video_file_name;
 
 use std::path::PathBuf;

@@ -1,6 +1,7 @@
 //! `study.png`: the work-precision diagram, error against wall time on
 //! log-log axes, drawn with plotters.
 
+use crate::render::FONT_BYTES;
 use plotters::prelude::*;
 use std::sync::Once;
 
@@ -151,9 +152,6 @@ fn log_ranges(points: &[&PlotPoint]) -> (std::ops::Range<f64>, std::ops::Range<f
         bounds(points.iter().map(|p| p.error).collect()),
     )
 }
-
-/// The ASCII subset of DejaVu Sans the renderer's legend uses.
-static FONT_BYTES: &[u8] = include_bytes!("../render/fonts/DejaVuSans-subset.ttf");
 
 /// Gives plotters the font elasto ships (plotters has no fonts of its own
 /// without system font lookup).

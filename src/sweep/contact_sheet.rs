@@ -9,7 +9,8 @@
 //! not rendered) gets a grey tile. There are no gaps, so cell `i` starts at
 //! `(i mod columns · cell_width, ⌊i / columns⌋ · cell_height)`.
 
-use super::label_text::{draw_text, fit_text, text_width};
+use super::label_text::fit_text;
+use crate::render::{draw_text, text_width};
 use image::{Rgba, RgbaImage, imageops};
 use std::path::{Path, PathBuf};
 
