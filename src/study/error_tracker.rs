@@ -70,6 +70,7 @@ impl Reference {
             } else {
                 ErrorKind::CentreOfMass
             },
+            energy_scale: self.energy_scale(),
             trajectory: 0.0,
             energy: 0.0,
             frames: 0,
@@ -101,6 +102,8 @@ impl ErrorKind {
 pub struct ErrorTracker<'r> {
     reference: &'r Reference,
     kind: ErrorKind,
+    /// [`Reference::energy_scale`], computed once.
+    energy_scale: f64,
     trajectory: f64,
     energy: f64,
     frames: usize,
@@ -133,7 +136,7 @@ impl ErrorTracker<'_> {
             ErrorKind::CentreOfMass => distance(centre.as_slice(), &self.reference.centres[k]),
         };
         self.trajectory = nan_max(self.trajectory, distance);
-        let energy_error = (energy - reference_energy).abs() / self.reference.energy_scale();
+        let energy_error = (energy - reference_energy).abs() / self.energy_scale;
         self.energy = nan_max(self.energy, energy_error);
     }
 
