@@ -376,6 +376,19 @@ fn a_killed_sweep_resumes_skipping_completed_runs_and_refuses_changed_ones() {
     // The second run was going: its record is not a completion marker.
     std::thread::sleep(std::time::Duration::from_millis(300));
     assert_ne!(record_status(&second).as_deref(), Some("ok"));
+    // What a kill while a run folder is being made leaves: the hidden
+    // staging folder with a half-written record, never a run folder
+    // without its record (which the resumed sweep would refuse).
+    let staging = dir.join(".0003_material.young=400.partial");
+    std::fs::create_dir_all(&staging).unwrap();
+    std::fs::write(staging.join(".sweep-run.json.partial"), "{ \"ind").unwrap();
+    for run in std::fs::read_dir(&dir).unwrap() {
+        let run = run.unwrap().path();
+        let name = run.file_name().unwrap().to_string_lossy().into_owned();
+        if !name.starts_with('.') {
+            assert!(record_status(&run).is_some(), "{name} has no record");
+        }
+    }
 
     let o = elasto(tmp.path(), &args[..args.len() - 1]);
     assert_code(&o, 0);
@@ -385,6 +398,10 @@ fn a_killed_sweep_resumes_skipping_completed_runs_and_refuses_changed_ones() {
         stderr(&o)
     );
     assert_eq!(std::fs::read(first.join("stats.csv")).unwrap(), first_stats);
+    assert!(
+        !staging.exists(),
+        "the stale staging folder was not cleared"
+    );
     assert_eq!(
         std::fs::metadata(first.join("stats.csv"))
             .unwrap()

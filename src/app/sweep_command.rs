@@ -359,11 +359,8 @@ impl SweepPlan {
             reason: None,
             wall_seconds: 0.0,
         };
-        if let Err(e) = std::fs::create_dir_all(&dir) {
-            return (Some(format!("cannot create {}: {e}", dir.display())), 0.0);
-        }
-        if let Err(e) = record.write(&dir) {
-            return (Some(e.to_string()), 0.0);
+        if let Err(e) = self.start_record(&dir, &record) {
+            return (Some(e), 0.0);
         }
         let child = ChildRun {
             program: program.to_owned(),
@@ -385,6 +382,29 @@ impl SweepPlan {
             return (Some(e.to_string()), outcome.wall_seconds);
         }
         (outcome.failure, outcome.wall_seconds)
+    }
+
+    /// Writes the "running" record of the run folder `dir`. A new folder is
+    /// made under a hidden name with its record inside and then renamed, so
+    /// a sweep killed at any instant never leaves a run folder without a
+    /// record (which a resumed sweep would refuse as not its own).
+    fn start_record(&self, dir: &Path, record: &RunRecord) -> Result<(), String> {
+        if dir.is_dir() {
+            return record.write(dir).map_err(|e| e.to_string());
+        }
+        let name = dir
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        let staging = dir.with_file_name(format!(".{name}.partial"));
+        let cannot = |what: &str, path: &Path, e: std::io::Error| {
+            format!("cannot {what} {}: {e}", path.display())
+        };
+        if staging.exists() {
+            std::fs::remove_dir_all(&staging).map_err(|e| cannot("remove", &staging, e))?;
+        }
+        std::fs::create_dir_all(&staging).map_err(|e| cannot("create", &staging, e))?;
+        record.write(&staging).map_err(|e| e.to_string())?;
+        std::fs::rename(&staging, dir).map_err(|e| cannot("create", dir, e))
     }
 
     /// `run SCENE --out DIR --force --quiet [flags] --set … --set …`.
