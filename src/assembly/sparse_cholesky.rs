@@ -1,11 +1,17 @@
 //! Sparse Cholesky `H = L L^T` with faer: one symbolic analysis per pattern, a numeric refactorisation per Newton iteration.
 //!
 //! The elimination order is the caller's (the nested dissection of
-//! [`super::nested_dissection`], through `SymmetricOrdering::Custom`), and
-//! the factorisation is forced supernodal: with a nested-dissection order
-//! the separators become dense blocks, which faer factorises with dense
-//! kernels (the simplicial variant works one column at a time). Without an
-//! order (an empty matrix), faer's AMD is used.
+//! [`super::nested_dissection`], through `SymmetricOrdering::Custom`) or
+//! faer's approximate minimum degree (AMD), whichever gives the factor with
+//! fewer stored entries: both are analysed (a symbolic analysis costs a small
+//! fraction of the setup) and the smaller factor is kept. Nested dissection
+//! wins on 3D meshes (7.8 M against 8.3 M entries for a 16³-cell box), AMD
+//! on small 2D ones (169 k against 234 k at 40 x 40 cells, where the
+//! factorisation is about 10% faster with it). The factorisation is forced
+//! supernodal: the separators become dense blocks, which faer factorises
+//! with dense kernels (the simplicial variant works one column at a time and
+//! was 2–3 times slower on every mesh measured). Without an order (an empty
+//! matrix), AMD alone is used.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -32,6 +38,23 @@ pub struct SparseCholesky {
     workspace: MemBuffer,
 }
 
+/// The supernodal symbolic factorisation of `pattern` in the elimination order `ordering`.
+pub(super) fn analyse_symbolic(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    ordering: SymmetricOrdering<'_, usize>,
+) -> Result<SymbolicCholesky<usize>, FactorisationError> {
+    factorize_symbolic_cholesky(
+        pattern,
+        Side::Lower,
+        ordering,
+        CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| FactorisationError(format!("{e:?}")))
+}
+
 impl SparseCholesky {
     /// Stored non-zeros of the factor `L` (its storage is 8 bytes each).
     pub fn factor_non_zeros(&self) -> usize {
@@ -42,7 +65,8 @@ impl SparseCholesky {
 impl SparseCholesky {
     /// Analyses the `dofs x dofs` lower-triangle pattern `(col_ptr, row_idx)`
     /// for the elimination order `order = (forward, inverse)` (`forward[k]`
-    /// is the unknown eliminated `k`-th; `None`: AMD).
+    /// is the unknown eliminated `k`-th) and for AMD, and keeps the order
+    /// whose factor is smaller (`None`: AMD alone).
     pub fn analyse(
         dofs: usize,
         col_ptr: &[usize],
@@ -50,22 +74,22 @@ impl SparseCholesky {
         order: Option<(&[usize], &[usize])>,
     ) -> Result<Self, FactorisationError> {
         let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx);
-        let ordering = match order {
+        let amd = analyse_symbolic(pattern, SymmetricOrdering::Amd)?;
+        let symbolic = match order {
             Some((forward, inverse)) => {
-                SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, dofs))
+                let given = analyse_symbolic(
+                    pattern,
+                    SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, dofs)),
+                )?;
+                // Ties go to the given order (deterministic either way).
+                if amd.len_val() < given.len_val() {
+                    amd
+                } else {
+                    given
+                }
             }
-            None => SymmetricOrdering::Amd,
+            None => amd,
         };
-        let symbolic = factorize_symbolic_cholesky(
-            pattern,
-            Side::Lower,
-            ordering,
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            },
-        )
-        .map_err(|e| FactorisationError(format!("{e:?}")))?;
         let factor_values = vec![0.0; symbolic.len_val()];
         let workspace = MemBuffer::new(
             symbolic
@@ -113,5 +137,64 @@ impl SparseCholesky {
             Par::Seq,
             stack,
         );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lower-triangle pattern of the 7-point Laplacian on an `n³` grid
+    /// (unknown `x + n y + n² z`).
+    fn grid_pattern(n: usize) -> (Vec<usize>, Vec<usize>) {
+        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        for col in 0..n * n * n {
+            row_idx.push(col);
+            for stride in [1, n, n * n] {
+                if col / stride % n + 1 < n {
+                    row_idx.push(col + stride);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        (col_ptr, row_idx)
+    }
+
+    fn factor_entries(n: usize, order: Option<&[usize]>) -> (usize, usize) {
+        let (col_ptr, row_idx) = grid_pattern(n);
+        let dofs = n * n * n;
+        let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, &col_ptr, None, &row_idx);
+        let inverse = order.map(|forward| {
+            let mut inverse = vec![0; dofs];
+            for (k, &unknown) in forward.iter().enumerate() {
+                inverse[unknown] = k;
+            }
+            inverse
+        });
+        let alone = match (order, &inverse) {
+            (Some(forward), Some(inverse)) => analyse_symbolic(
+                pattern,
+                SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, dofs)),
+            ),
+            _ => analyse_symbolic(pattern, SymmetricOrdering::Amd),
+        }
+        .unwrap()
+        .len_val();
+        let chosen =
+            SparseCholesky::analyse(dofs, &col_ptr, &row_idx, order.zip(inverse.as_deref()))
+                .unwrap()
+                .factor_non_zeros();
+        (alone, chosen)
+    }
+
+    #[test]
+    fn the_order_with_the_smaller_factor_is_kept() {
+        let n = 16;
+        let (amd, _) = factor_entries(n, None);
+        // The natural (banded) order fills far more than AMD: AMD is kept.
+        let natural: Vec<usize> = (0..n * n * n).collect();
+        let (banded, chosen) = factor_entries(n, Some(&natural));
+        assert!(banded > amd + amd / 4, "banded {banded}, AMD {amd}");
+        assert_eq!(chosen, amd);
     }
 }

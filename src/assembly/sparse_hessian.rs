@@ -368,6 +368,10 @@ fn free_vertex_order<const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assembly::sparse_cholesky::analyse_symbolic;
+    use faer::perm::PermRef;
+    use faer::sparse::SymbolicSparseColMatRef;
+    use faer::sparse::linalg::cholesky::SymmetricOrdering;
 
     #[test]
     fn packed_slots_number_the_lower_triangle_by_columns() {
@@ -382,5 +386,53 @@ mod tests {
             }
             assert_eq!(next, element_slot_len(d));
         }
+    }
+
+    /// Factor entries of the Hessian pattern of a box with `cells`: with the
+    /// nested dissection alone, with AMD alone, and as kept.
+    fn factor_entries<const D: usize>(cells: [usize; D]) -> (usize, usize, usize) {
+        let mesh =
+            Mesh::axis_aligned_box(Vector::<D>::zeros(), Vector::<D>::from_element(1.0), cells)
+                .unwrap();
+        let free: Vec<Option<usize>> = (0..mesh.vertex_count()).map(Some).collect();
+        let hessian = SparseHessian::new(&mesh, free.clone()).unwrap();
+        let dofs = hessian.dofs();
+        let pattern = SymbolicSparseColMatRef::new_checked(
+            dofs,
+            dofs,
+            &hessian.col_ptr,
+            None,
+            &hessian.row_idx,
+        );
+        let (forward, inverse) =
+            expand_to_unknowns::<D>(&free_vertex_order(&mesh, &free, mesh.vertex_count()));
+        let dissection = analyse_symbolic(
+            pattern,
+            SymmetricOrdering::Custom(PermRef::new_checked(&forward, &inverse, dofs)),
+        )
+        .unwrap()
+        .len_val();
+        let amd = analyse_symbolic(pattern, SymmetricOrdering::Amd)
+            .unwrap()
+            .len_val();
+        (dissection, amd, hessian.factor_non_zeros())
+    }
+
+    #[test]
+    fn the_elimination_order_with_the_smaller_factor_is_kept() {
+        // 3D: the nested dissection fills less and is kept.
+        let (dissection, amd, kept) = factor_entries([10, 10, 10]);
+        assert!(
+            dissection < amd,
+            "nested dissection {dissection}, AMD {amd}"
+        );
+        assert_eq!(kept, dissection);
+        // A small 2D mesh: AMD fills less and is kept.
+        let (dissection, amd, kept) = factor_entries([40, 40]);
+        assert!(
+            amd < dissection,
+            "nested dissection {dissection}, AMD {amd}"
+        );
+        assert_eq!(kept, amd);
     }
 }
