@@ -32,7 +32,10 @@
 
 use crate::assembly::element_slot_index;
 use crate::material::HyperelasticMaterial;
-use crate::math::{Matrix, Vector, project_isotropic_stress_derivative_to_psd};
+use crate::math::{
+    Matrix, SvdFrameProjection, TWIST_PAIRS, Vector, project_isotropic_in_svd_frame,
+    project_stress_derivative_to_psd, symmetrise_and_test_definite,
+};
 use crate::mesh::{Mesh, RestElement};
 
 /// Largest `D^2` (3D): the stress derivative fits in `MAX_STRAIN^2` numbers.
@@ -92,11 +95,27 @@ pub fn element_gradient_and_hessian<const D: usize, M: HyperelasticMaterial<D>>(
             }
         }
     }
-    if project {
-        // Every material here is isotropic: the block-diagonal projection.
-        project_isotropic_stress_derivative_to_psd::<D>(&mut a_flat[..strain * strain], &f);
+    if project && !symmetrise_and_test_definite::<D>(&mut a_flat[..strain * strain]) {
+        // Every material here is isotropic: the block-diagonal projection,
+        // used without rotating it back.
+        if let Some(frame) = project_isotropic_in_svd_frame::<D>(&a_flat[..strain * strain], &f) {
+            hessian_in_svd_frame(&frame, &g, weight, hessian);
+            return;
+        }
+        project_stress_derivative_to_psd::<D>(&mut a_flat[..strain * strain]);
     }
+    hessian_from_stress_derivative::<D>(&a_flat, &g, weight, hessian);
+}
 
+/// `H = weight G^T A G` into the packed lower triangle `hessian`, for the
+/// column-major `D^2 x D^2` stress derivative `a`.
+fn hessian_from_stress_derivative<const D: usize>(
+    a_flat: &[f64],
+    g: &[Vector<D>; MAX_NODES],
+    weight: f64,
+    hessian: &mut [f64],
+) {
+    let strain = D * D;
     // H[(a k), (b l)] = weight sum_j (sum_n A[(k j), (l n)] g_b[n]) g_a[j].
     let size = D * (D + 1);
     for b in 0..=D {
@@ -121,6 +140,65 @@ pub fn element_gradient_and_hessian<const D: usize, M: HyperelasticMaterial<D>>(
                 }
                 out[p - q] = sum;
             }
+        }
+    }
+}
+
+/// `H = weight W^T A'_+ W` into the packed lower triangle `hessian`, from
+/// the projection in the SVD frame: `W = K^T G` has the column
+/// `W[(i j), (a k)] = U_{k i} (V^T g_a)_j` (the image of
+/// `dF/dx_{a,k} = e_k g_a^T` in the frame), and `A'_+` is block-diagonal.
+fn hessian_in_svd_frame<const D: usize>(
+    frame: &SvdFrameProjection<D>,
+    g: &[Vector<D>; MAX_NODES],
+    weight: f64,
+    hessian: &mut [f64],
+) {
+    let size = D * (D + 1);
+    let SvdFrameProjection {
+        u,
+        v,
+        stretch,
+        twist,
+        ..
+    } = frame;
+    // Columns of W, and of A'_+ W, one per local unknown (a k).
+    let mut w = [[0.0; MAX_STRAIN]; MAX_NODES * 3];
+    let mut aw = [[0.0; MAX_STRAIN]; MAX_NODES * 3];
+    for a in 0..=D {
+        let vg = v.transpose() * g[a];
+        for k in 0..D {
+            let column = &mut w[a * D + k];
+            for i in 0..D {
+                for j in 0..D {
+                    column[i * D + j] = u[(k, i)] * vg[j];
+                }
+            }
+            let (column, image) = (&w[a * D + k], &mut aw[a * D + k]);
+            for i in 0..D {
+                let mut sum = 0.0;
+                for j in 0..D {
+                    sum += stretch[(i, j)] * column[j * D + j];
+                }
+                image[i * D + i] = sum * weight;
+            }
+            for (&(p, q), &[s, t, r]) in TWIST_PAIRS.iter().zip(twist).take(D * (D - 1) / 2) {
+                let (x, y) = (column[p * D + q], column[q * D + p]);
+                image[p * D + q] = (s * x + t * y) * weight;
+                image[q * D + p] = (t * x + r * y) * weight;
+            }
+        }
+    }
+    let strain = D * D;
+    for q in 0..size {
+        let start = element_slot_index(size, q, q);
+        let out = &mut hessian[start..start + size - q];
+        for p in q..size {
+            let mut sum = 0.0;
+            for r in 0..strain {
+                sum += w[p][r] * aw[q][r];
+            }
+            out[p - q] = sum;
         }
     }
 }

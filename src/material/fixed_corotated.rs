@@ -17,7 +17,7 @@
 //! projection this material needs.
 
 use super::{HyperelasticMaterial, LameParameters, cofactor, cofactor_differential, unit};
-use crate::math::{Matrix, StressDerivative, Vector, determinant};
+use crate::math::{Matrix, StressDerivative, determinant, rotation_svd};
 
 /// The smallest `|sigma_i + sigma_j|` used in `dR`.
 const MIN_SINGULAR_SUM: f64 = 1e-12;
@@ -27,29 +27,6 @@ const MIN_SINGULAR_SUM: f64 = 1e-12;
 pub struct FixedCorotated {
     /// Lame parameters.
     pub lame: LameParameters,
-}
-
-/// The rotation-variant SVD `F = U diag(sigma) V^T` with `det U = det V = 1`.
-fn rotation_svd<const D: usize>(f: &Matrix<D>) -> (Matrix<D>, Vector<D>, Matrix<D>) {
-    // nalgebra's SVD needs dimension bounds a generic `const D` cannot name:
-    // decompose a dynamic copy.
-    let svd = nalgebra::DMatrix::from_column_slice(D, D, f.as_slice()).svd(true, true);
-    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
-        unreachable!("both factors were requested")
-    };
-    let mut u = Matrix::<D>::from_fn(|i, j| u[(i, j)]);
-    let mut v = Matrix::<D>::from_fn(|i, j| v_t[(j, i)]);
-    let mut sigma = Vector::<D>::from_fn(|i, _| svd.singular_values[i]);
-    // Singular values come sorted, largest first: the sign goes to the last.
-    if determinant(&u) < 0.0 {
-        u.column_mut(D - 1).neg_mut();
-        sigma[D - 1] = -sigma[D - 1];
-    }
-    if determinant(&v) < 0.0 {
-        v.column_mut(D - 1).neg_mut();
-        sigma[D - 1] = -sigma[D - 1];
-    }
-    (u, sigma, v)
 }
 
 impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {

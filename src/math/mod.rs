@@ -95,11 +95,14 @@ pub fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
 
 mod polynomial;
 mod psd;
+mod svd;
 
 pub use polynomial::{Polynomial, first_root_in};
 pub use psd::{
-    project_isotropic_stress_derivative_to_psd, project_stress_derivative_to_psd, project_to_psd,
+    SvdFrameProjection, TWIST_PAIRS, project_isotropic_in_svd_frame,
+    project_stress_derivative_to_psd, project_to_psd, symmetrise_and_test_definite,
 };
+pub use svd::rotation_svd;
 
 #[cfg(test)]
 mod tests {

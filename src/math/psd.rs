@@ -12,7 +12,7 @@
 //! definite: the Newton direction is always a descent direction.
 //! [`project_to_psd`] projects a matrix of any size (tests, analysis).
 //!
-//! **Isotropic materials** ([`project_isotropic_stress_derivative_to_psd`]).
+//! **Isotropic materials** ([`project_isotropic_in_svd_frame`]).
 //! With the rotation-variant SVD `F = U Sigma V^T` (`U`, `V` rotations), an
 //! isotropic energy has `dP/dF(F)[U dS V^T] = U dP/dF(Sigma)[dS] V^T`, so in
 //! the basis `K = U (x) V` (`K_{(k j),(a b)} = U_{k a} V_{j b}`) the stress
@@ -23,11 +23,18 @@
 //! flip modes). Projecting the blocks (closed form for `2 x 2`) and rotating
 //! back, `A_+ = K A'_+ K^T`, is the same projection as the full
 //! eigen-decomposition (it does not depend on the orthonormal basis), at a
-//! fraction of the cost. Should `A'` not be block-diagonal (a material that
-//! is not isotropic), the full eigen-decomposition runs instead.
+//! fraction of the cost; the element kernel does not even rotate back, it
+//! builds `V G^T A_+ G = V W^T A'_+ W` from `W = K^T G` (a rank-one pattern
+//! per column) and the sparse blocks. Should `A'` not be block-diagonal (a
+//! material that is not isotropic), the full eigen-decomposition runs
+//! instead.
 
 use super::Matrix;
-use nalgebra::{DMatrix, Matrix2, Matrix3, SMatrix};
+use super::svd::rotation_svd;
+use nalgebra::{DMatrix, Matrix3, SMatrix};
+
+/// Entries of the largest stress derivative (`9 x 9`, 3D).
+const MAX_STRAIN_SQUARED: usize = 81;
 
 /// Replaces `h` by its projection onto the PSD cone. Returns whether any
 /// eigenvalue had to be clamped.
@@ -87,6 +94,33 @@ macro_rules! fixed_projection {
 fixed_projection!(project_4, 4);
 fixed_projection!(project_9, 9);
 
+/// Symmetrises the column-major `n x n` matrix `a` in place; returns whether
+/// it is positive definite (a Cholesky factorisation succeeds).
+macro_rules! fixed_definiteness {
+    ($name:ident, $n:literal) => {
+        fn $name(a: &mut [f64]) -> bool {
+            let m = SMatrix::<f64, $n, $n>::from_column_slice(a);
+            let symmetric = (m + m.transpose()) * 0.5;
+            a.copy_from_slice(symmetric.as_slice());
+            symmetric.cholesky().is_some()
+        }
+    };
+}
+fixed_definiteness!(definite_4, 4);
+fixed_definiteness!(definite_9, 9);
+
+/// Replaces the column-major `D^2 x D^2` stress derivative `a` by its
+/// symmetric part and says whether that is positive definite, in which case
+/// it is its own PSD projection (the cheap first test before any
+/// eigen-decomposition or SVD).
+pub fn symmetrise_and_test_definite<const D: usize>(a: &mut [f64]) -> bool {
+    match D {
+        2 => definite_4(a),
+        3 => definite_9(a),
+        _ => false,
+    }
+}
+
 /// Projects the symmetric `2 x 2` `[[p, q], [q, r]]` onto the PSD cone in
 /// closed form; returns the projection and whether anything was clamped.
 fn project_2x2(p: f64, q: f64, r: f64) -> ([f64; 3], bool) {
@@ -112,104 +146,144 @@ fn project_2x2(p: f64, q: f64, r: f64) -> ([f64; 3], bool) {
     ([high * c * c, high * c * s, high * s * s], true)
 }
 
-/// A rotation-variant SVD of `f`: `(U, sigma, V)` with `U`, `V` rotations.
-macro_rules! rotation_svd {
-    ($f:expr, $matrix:ty) => {{
-        let svd = <$matrix>::from_column_slice($f).svd(true, true);
-        let (mut u, mut v_t) = (svd.u.expect("U asked for"), svd.v_t.expect("V asked for"));
-        let last = u.ncols() - 1;
-        if u.determinant() < 0.0 {
-            u.column_mut(last).neg_mut();
-        }
-        if v_t.determinant() < 0.0 {
-            v_t.row_mut(last).neg_mut();
-        }
-        (u, v_t.transpose())
-    }};
+/// The PSD projection of an isotropic material's stress derivative in the
+/// SVD frame of `F = U diag(sigma) V^T` (see the module documentation):
+/// `[dP/dF]_+ = K A'_+ K^T` with `K = U (x) V` and `A'_+` block-diagonal,
+/// kept as its blocks so that element Hessians can be built from it without
+/// rotating it back (`G^T K A'_+ K^T G = W^T A'_+ W`, `W = K^T G`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SvdFrameProjection<const D: usize> {
+    /// The left rotation `U`.
+    pub u: Matrix<D>,
+    /// The right rotation `V`.
+    pub v: Matrix<D>,
+    /// The projected stretch block, over the strain components `(a a)`.
+    pub stretch: Matrix<D>,
+    /// The projected twist/flip blocks `[[p, q], [q, r]]` stored as
+    /// `[p, q, r]`, over `((a b), (b a))` for the pairs `a < b` in the order
+    /// `(0 1), (0 2), (1 2)` (the first `D (D - 1) / 2` are used).
+    pub twist: [[f64; 3]; 3],
+    /// Whether any eigenvalue had to be clamped.
+    pub clamped: bool,
 }
 
-macro_rules! isotropic_projection {
-    ($name:ident, $d:literal, $n:literal, $matrix:ty, $full:ident) => {
-        fn $name(a: &mut [f64], f: &[f64]) -> bool {
-            let (u, v) = rotation_svd!(f, $matrix);
-            let k = SMatrix::<f64, $n, $n>::from_fn(|row, col| {
-                u[(row / $d, col / $d)] * v[(row % $d, col % $d)]
-            });
-            let m = SMatrix::<f64, $n, $n>::from_column_slice(a);
-            let rotated = k.transpose() * ((m + m.transpose()) * 0.5) * k;
-            // Block structure: (a a) with (b b); (a b) with itself and (b a).
-            let same_block = |i: usize, j: usize| {
-                let (a, b, c, d) = (i / $d, i % $d, j / $d, j % $d);
-                (a == b && c == d) || (a == c && b == d) || (a == d && b == c)
-            };
-            let mut off_block = 0.0;
-            for j in 0..$n {
-                for i in 0..$n {
-                    if !same_block(i, j) {
-                        off_block += rotated[(i, j)] * rotated[(i, j)];
-                    }
-                }
-            }
-            if off_block > 1e-20 * rotated.norm_squared() {
-                return $full(a);
-            }
-            let mut projected = SMatrix::<f64, $n, $n>::zeros();
-            let mut clamped = false;
-            // The stretch block, D x D over the diagonal entries (a a).
-            let stretch = <$matrix>::from_fn(|i, j| rotated[(i * $d + i, j * $d + j)]);
-            let stretch = if stretch.cholesky().is_some() {
-                stretch
-            } else {
-                let eigen = stretch.symmetric_eigen();
-                if eigen.eigenvalues.iter().any(|&l| l < 0.0) {
-                    clamped = true;
-                    let q = eigen.eigenvectors;
-                    q * <$matrix>::from_diagonal(&eigen.eigenvalues.map(|l| l.max(0.0)))
-                        * q.transpose()
-                } else {
-                    stretch
-                }
-            };
-            for i in 0..$d {
-                for j in 0..$d {
-                    projected[(i * $d + i, j * $d + j)] = stretch[(i, j)];
-                }
-            }
-            // The twist/flip blocks over (a b), (b a).
-            for a in 0..$d {
-                for b in a + 1..$d {
-                    let (i, j) = (a * $d + b, b * $d + a);
-                    let ([p, q, r], c) =
-                        project_2x2(rotated[(i, i)], rotated[(i, j)], rotated[(j, j)]);
-                    clamped |= c;
-                    projected[(i, i)] = p;
-                    projected[(i, j)] = q;
-                    projected[(j, i)] = q;
-                    projected[(j, j)] = r;
-                }
-            }
-            let back = k * projected * k.transpose();
-            a.copy_from_slice(back.as_slice());
+/// The pairs `a < b` of strain indices, in the order of [`SvdFrameProjection::twist`].
+pub const TWIST_PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
+
+/// `U^T M V` for the `D x D` matrix `M` read by `entry(k, j)`.
+fn rotate_into_frame<const D: usize>(
+    u: &Matrix<D>,
+    v: &Matrix<D>,
+    entry: impl Fn(usize, usize) -> f64,
+) -> Matrix<D> {
+    u.transpose() * Matrix::<D>::from_fn(entry) * v
+}
+
+/// Projects a symmetric `D x D` matrix onto the PSD cone; returns it and
+/// whether anything was clamped.
+fn project_small<const D: usize>(m: &Matrix<D>) -> (Matrix<D>, bool) {
+    if m.cholesky().is_some() {
+        return (*m, false);
+    }
+    let mut out = *m;
+    let clamped = match D {
+        1 => {
+            out[(0, 0)] = m[(0, 0)].max(0.0);
+            m[(0, 0)] < 0.0
+        }
+        2 => {
+            let ([p, q, r], clamped) = project_2x2(m[(0, 0)], m[(0, 1)], m[(1, 1)]);
+            out.as_mut_slice().copy_from_slice(&[p, q, q, r]);
             clamped
         }
+        3 => {
+            let eigen = Matrix3::from_column_slice(m.as_slice()).symmetric_eigen();
+            let clamped = eigen.eigenvalues.iter().any(|&l| l < 0.0);
+            if clamped {
+                let q = eigen.eigenvectors;
+                let projected = q
+                    * Matrix3::from_diagonal(&eigen.eigenvalues.map(|l| l.max(0.0)))
+                    * q.transpose();
+                out.as_mut_slice().copy_from_slice(projected.as_slice());
+            }
+            clamped
+        }
+        _ => unimplemented!("projection of a {D} x {D} block"),
     };
+    (out, clamped)
 }
-isotropic_projection!(project_isotropic_4, 2, 4, Matrix2<f64>, project_4);
-isotropic_projection!(project_isotropic_9, 3, 9, Matrix3<f64>, project_9);
 
-/// Like [`project_stress_derivative_to_psd`], for the stress derivative
-/// `a` of an isotropic material at `f`: through the block-diagonal form in
-/// the SVD frame of `f` (see the module documentation), falling back to the
-/// full eigen-decomposition if `a` is not block-diagonal there.
-pub fn project_isotropic_stress_derivative_to_psd<const D: usize>(
-    a: &mut [f64],
+/// Projects the stress derivative `a` (column-major `D^2 x D^2`, row
+/// `(k j) = k D + j`, column `(l n)`) of an isotropic material at `f` onto
+/// the PSD cone, in the SVD frame of `f`. `None` when `a` is not
+/// block-diagonal in that frame (the material is not isotropic): then the
+/// full eigen-decomposition ([`project_stress_derivative_to_psd`]) is needed.
+///
+/// `A' = K^T A K` is formed as a tensor rotation, `U^T M V` on each `D x D`
+/// column and then each row of `A` (`2 D^4 (D + 1)` multiplications, not
+/// the `2 D^6` of two dense products).
+pub fn project_isotropic_in_svd_frame<const D: usize>(
+    a: &[f64],
     f: &Matrix<D>,
-) -> bool {
-    match D {
-        2 => project_isotropic_4(a, f.as_slice()),
-        3 => project_isotropic_9(a, f.as_slice()),
-        _ => project_stress_derivative_to_psd::<D>(a),
+) -> Option<SvdFrameProjection<D>> {
+    let n = D * D;
+    let (u, _, v) = rotation_svd(f);
+    // C = K^T A, column by column; then A' = C K, row by row.
+    let mut c = [0.0; MAX_STRAIN_SQUARED];
+    for col in 0..n {
+        let column = &a[col * n..col * n + n];
+        let r = rotate_into_frame(&u, &v, |k, j| column[k * D + j]);
+        for i in 0..D {
+            for j in 0..D {
+                c[col * n + i * D + j] = r[(i, j)];
+            }
+        }
     }
+    let mut rotated = [0.0; MAX_STRAIN_SQUARED];
+    for row in 0..n {
+        let r = rotate_into_frame(&u, &v, |k, l| c[(k * D + l) * n + row]);
+        for i in 0..D {
+            for j in 0..D {
+                rotated[(i * D + j) * n + row] = r[(i, j)];
+            }
+        }
+    }
+    // Symmetric part of A' at (row, col).
+    let at = |row: usize, col: usize| 0.5 * (rotated[col * n + row] + rotated[row * n + col]);
+    // Block structure: (a a) with (b b); (a b) with itself and (b a).
+    let same_block = |i: usize, j: usize| {
+        let (a, b, c, d) = (i / D, i % D, j / D, j % D);
+        (a == b && c == d) || (a == c && b == d) || (a == d && b == c)
+    };
+    let (mut off_block, mut total) = (0.0, 0.0);
+    for col in 0..n {
+        for row in 0..n {
+            let value = rotated[col * n + row];
+            total += value * value;
+            if !same_block(row, col) {
+                off_block += value * value;
+            }
+        }
+    }
+    if off_block > 1e-20 * total {
+        return None;
+    }
+    let (stretch, mut clamped) =
+        project_small(&Matrix::<D>::from_fn(|i, j| at(i * D + i, j * D + j)));
+    let mut twist = [[0.0; 3]; 3];
+    for (t, &(a, b)) in TWIST_PAIRS.iter().enumerate().take(D * (D - 1) / 2) {
+        let (i, j) = (a * D + b, b * D + a);
+        let (block, c) = project_2x2(at(i, i), at(i, j), at(j, j));
+        clamped |= c;
+        twist[t] = block;
+    }
+    Some(SvdFrameProjection {
+        u,
+        v,
+        stretch,
+        twist,
+        clamped,
+    })
 }
 
 #[cfg(test)]
