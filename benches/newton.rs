@@ -159,12 +159,12 @@ fn main() {
     let sizes_2d: &[usize] = if quick {
         &[10, 20]
     } else {
-        &[40]
+        &[10, 40, 100, 160]
     };
     for &n in sizes_2d {
         bench::<2>([n, n]);
     }
-    let sizes_3d: &[usize] = if quick { &[4, 6] } else { &[5, 10, 16] };
+    let sizes_3d: &[usize] = if quick { &[4, 6] } else { &[5, 10, 16, 21] };
     let mut factor_non_zeros = 0;
     for &n in sizes_3d {
         factor_non_zeros = bench::<3>([n, n, n]);
