@@ -220,8 +220,8 @@ fn project_small<const D: usize>(m: &Matrix<D>) -> (Matrix<D>, bool) {
 /// full eigen-decomposition ([`project_stress_derivative_to_psd`]) is needed.
 ///
 /// `A' = K^T A K` is formed as a tensor rotation, `U^T M V` on each `D x D`
-/// column and then each row of `A` (`2 D^4 (D + 1)` multiplications, not
-/// the `2 D^6` of two dense products).
+/// column and then each row of `A` (`4 D^5` multiplications, 972 in 3D,
+/// not the `2 D^6 = 1458` of two dense products).
 pub fn project_isotropic_in_svd_frame<const D: usize>(
     a: &[f64],
     f: &Matrix<D>,
