@@ -12,39 +12,41 @@ fn run<const D: usize>(threads: usize, cells: [usize; D]) -> Vec<Vector<D>> {
         .num_threads(threads)
         .build()
         .unwrap();
-    pool.install(|| {
-        let min = Vector::<D>::from_fn(|k, _| if k == 1 { 0.05 } else { 0.0 });
-        let mesh =
-            Mesh::axis_aligned_box(min, min + Vector::<D>::from_element(1.0), cells).unwrap();
-        let effects = Effects {
-            gravity: Some(Vector::<D>::from_fn(
-                |k, _| if k == 1 { -9.81 } else { 0.0 },
-            )),
-            ground: Some(Ground {
-                height: 0.0,
-                activation_distance: 0.1,
-                stiffness: None,
-            }),
-            pinned: Vec::new(),
-        };
-        let velocity = Vector::<D>::from_fn(|k, _| if k == 0 { 1.0 } else { -2.0 });
-        let mut sim = Simulation::new(
-            mesh,
-            neo_hookean(),
-            1.0,
-            effects,
-            SimulationSettings {
-                dt: 0.01,
-                ..Default::default()
-            },
-            velocity,
-        )
-        .unwrap();
-        for _ in 0..8 {
-            sim.step().unwrap();
-        }
-        sim.positions().to_vec()
-    })
+    pool.install(|| simulate(cells))
+}
+
+/// Eight steps of a box falling onto the ground, on the calling thread's pool.
+fn simulate<const D: usize>(cells: [usize; D]) -> Vec<Vector<D>> {
+    let min = Vector::<D>::from_fn(|k, _| if k == 1 { 0.05 } else { 0.0 });
+    let mesh = Mesh::axis_aligned_box(min, min + Vector::<D>::from_element(1.0), cells).unwrap();
+    let effects = Effects {
+        gravity: Some(Vector::<D>::from_fn(
+            |k, _| if k == 1 { -9.81 } else { 0.0 },
+        )),
+        ground: Some(Ground {
+            height: 0.0,
+            activation_distance: 0.1,
+            stiffness: None,
+        }),
+        pinned: Vec::new(),
+    };
+    let velocity = Vector::<D>::from_fn(|k, _| if k == 0 { 1.0 } else { -2.0 });
+    let mut sim = Simulation::new(
+        mesh,
+        neo_hookean(),
+        1.0,
+        effects,
+        SimulationSettings {
+            dt: 0.01,
+            ..Default::default()
+        },
+        velocity,
+    )
+    .unwrap();
+    for _ in 0..8 {
+        sim.step().unwrap();
+    }
+    sim.positions().to_vec()
 }
 
 #[test]
@@ -79,6 +81,20 @@ fn one_and_two_threads_give_identical_positions_on_a_large_mesh() {
     let one = run::<2>(1, [64, 64]);
     let two = run::<2>(2, [64, 64]);
     assert!(one.iter().zip(&two).all(|(a, b)| {
+        a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    }));
+}
+
+#[test]
+fn a_step_called_from_outside_the_pool_gives_the_same_positions() {
+    // The test thread is not one of rayon's: a step of a large mesh moves to
+    // the global pool's threads (and back); a step inside a one-thread pool
+    // stays where it is. Both give the same bits.
+    let outside = simulate::<2>([24, 24]);
+    let one = run::<2>(1, [24, 24]);
+    assert!(outside.iter().zip(&one).all(|(a, b)| {
         a.iter()
             .zip(b.iter())
             .all(|(x, y)| x.to_bits() == y.to_bits())

@@ -45,7 +45,7 @@ pub const MIN_VOLUME_RATIO: f64 = 1e-9;
 /// Elements per rayon task.
 const ELEMENTS_PER_TASK: usize = 256;
 /// Below this many elements (or vertices) a pass runs on the calling thread.
-const PARALLEL_MIN_ELEMENTS: usize = 4 * ELEMENTS_PER_TASK;
+pub(crate) const PARALLEL_MIN_ELEMENTS: usize = 4 * ELEMENTS_PER_TASK;
 
 /// The strain energy of a mesh made of one material.
 pub struct Elasticity<const D: usize> {

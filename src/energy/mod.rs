@@ -34,6 +34,7 @@ mod inertia;
 
 pub use body_elasticity::BodyElasticity;
 pub use elasticity::Elasticity;
+pub(crate) use elasticity::PARALLEL_MIN_ELEMENTS;
 pub use element_field::ElementField;
 pub use gravity::Gravity;
 pub use ground_barrier::GroundBarrier;
