@@ -9,7 +9,7 @@ mod support;
 use elasto::assembly::SparseHessian;
 use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use elasto::material::{
-    FixedCorotated, HyperelasticMaterial, Material, NeoHookean, StVenantKirchhoff, StableNeoHookean,
+    FixedCorotated, HyperelasticMaterial, NeoHookean, StVenantKirchhoff, StableNeoHookean,
 };
 use elasto::math::{DenseMatrix, Matrix, Vector, project_to_psd};
 use elasto::mesh::Mesh;
@@ -28,22 +28,6 @@ both_dimensions! {
     robust_materials_match_finite_differences_compressed_and_inverted => robust_materials_2d, robust_materials_3d;
     every_material_is_stress_free_at_rest => rest_stability_2d, rest_stability_3d;
     stable_neo_hookean_energy_is_finite_when_inverted => stable_neo_hookean_inverted_2d, stable_neo_hookean_inverted_3d;
-}
-
-fn materials() -> [(&'static str, Material); 4] {
-    let lame = lame();
-    [
-        ("stvk", stvk()),
-        ("neo-hookean", neo_hookean()),
-        (
-            "stable-neo-hookean",
-            Material::StableNeoHookean(StableNeoHookean { lame }),
-        ),
-        (
-            "fixed-corotated",
-            Material::FixedCorotated(FixedCorotated { lame }),
-        ),
-    ]
 }
 
 fn for_each_material<const D: usize>(mut check: impl FnMut(&str, &dyn HyperelasticMaterial<D>)) {

@@ -8,10 +8,10 @@ mod support;
 
 use elasto::energy::Elasticity;
 use elasto::energy::ElementField;
-use elasto::material::{FixedCorotated, HyperelasticMaterial, Material, StableNeoHookean};
+use elasto::material::{HyperelasticMaterial, Material};
 use elasto::math::{Matrix, Vector, determinant};
 use std::sync::Arc;
-use support::{Rng, lame, neo_hookean, random_f, relative_error, stvk, unit_box};
+use support::{Rng, lame, materials, neo_hookean, random_f, relative_error, stvk, unit_box};
 
 /// The value of `field` for a mesh deformed homogeneously by `f`, one per element.
 fn homogeneous_field<const D: usize>(
@@ -42,21 +42,10 @@ fn assert_all_close(values: &[f64], expected: f64, tolerance: f64, what: &str) {
     }
 }
 
-/// Every material, with the test Lame parameters.
-fn all_materials() -> [Material; 4] {
-    let lame = lame();
-    [
-        stvk(),
-        neo_hookean(),
-        Material::StableNeoHookean(StableNeoHookean { lame }),
-        Material::FixedCorotated(FixedCorotated { lame }),
-    ]
-}
-
 #[test]
 fn plane_strain_von_mises_equals_the_extruded_3d_body() {
     let mut rng = Rng::new(17);
-    for material in all_materials() {
+    for (_, material) in materials() {
         for _ in 0..20 {
             let f2 = random_f::<2>(&mut rng, 0.3);
             let f3 = plane_strain_extrusion(&f2);
@@ -75,7 +64,7 @@ fn plane_strain_von_mises_equals_the_extruded_3d_body() {
 #[test]
 fn plane_strain_normal_stress_is_the_3d_cauchy_zz() {
     let mut rng = Rng::new(5);
-    for material in all_materials() {
+    for (_, material) in materials() {
         for _ in 0..20 {
             let f2 = random_f::<2>(&mut rng, 0.3);
             let f3 = plane_strain_extrusion(&f2);

@@ -15,7 +15,10 @@ macro_rules! both_dimensions {
     )*};
 }
 
-use elasto::material::{LameParameters, Material, NeoHookean, StVenantKirchhoff, YoungPoisson};
+use elasto::material::{
+    FixedCorotated, LameParameters, Material, NeoHookean, StVenantKirchhoff, StableNeoHookean,
+    YoungPoisson,
+};
 use elasto::math::{Matrix, Vector, Vector2};
 use elasto::mesh::Mesh;
 use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
@@ -50,6 +53,23 @@ pub fn stvk() -> Material {
 
 pub fn neo_hookean() -> Material {
     Material::NeoHookean(NeoHookean { lame: lame() })
+}
+
+/// Every material, by its scene-file name, with the test Lame parameters.
+pub fn materials() -> [(&'static str, Material); 4] {
+    let lame = lame();
+    [
+        ("stvk", stvk()),
+        ("neo-hookean", neo_hookean()),
+        (
+            "stable-neo-hookean",
+            Material::StableNeoHookean(StableNeoHookean { lame }),
+        ),
+        (
+            "fixed-corotated",
+            Material::FixedCorotated(FixedCorotated { lame }),
+        ),
+    ]
 }
 
 /// The report's example: a 1 x 1 St. Venant-Kirchhoff box (E = 300,
