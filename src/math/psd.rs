@@ -31,7 +31,7 @@
 
 use super::Matrix;
 use super::svd::rotation_svd;
-use nalgebra::{DMatrix, Matrix3, SMatrix};
+use nalgebra::{DMatrix, SMatrix};
 
 /// Entries of the largest stress derivative (`9 x 9`, 3D).
 const MAX_STRAIN_SQUARED: usize = 81;
@@ -61,41 +61,16 @@ pub fn project_stress_derivative_to_psd<const D: usize>(a: &mut [f64]) -> bool {
             a[0] = a[0].max(0.0);
             clamped
         }
-        2 => project_4(a),
-        3 => project_9(a),
+        // The eigen-decomposition only when the Cholesky test fails.
+        2 => !definite_4(a) && clamp_4(a),
+        3 => !definite_9(a) && clamp_9(a),
         _ => unimplemented!("stress derivative of a {D}-dimensional material"),
     }
 }
 
-/// Symmetrises `a` in place; returns whether it is positive definite (a
-/// Cholesky factorisation succeeds), in which case it is its own projection.
-macro_rules! fixed_projection {
-    ($name:ident, $n:literal) => {
-        fn $name(a: &mut [f64]) -> bool {
-            let m = SMatrix::<f64, $n, $n>::from_column_slice(a);
-            let symmetric = (m + m.transpose()) * 0.5;
-            if symmetric.cholesky().is_some() {
-                a.copy_from_slice(symmetric.as_slice());
-                return false;
-            }
-            let eigen = symmetric.symmetric_eigen();
-            if eigen.eigenvalues.iter().all(|&l| l >= 0.0) {
-                a.copy_from_slice(symmetric.as_slice());
-                return false;
-            }
-            let q = eigen.eigenvectors;
-            let clamped = eigen.eigenvalues.map(|l| l.max(0.0));
-            let projected = q * SMatrix::<f64, $n, $n>::from_diagonal(&clamped) * q.transpose();
-            a.copy_from_slice(projected.as_slice());
-            true
-        }
-    };
-}
-fixed_projection!(project_4, 4);
-fixed_projection!(project_9, 9);
-
-/// Symmetrises the column-major `n x n` matrix `a` in place; returns whether
-/// it is positive definite (a Cholesky factorisation succeeds).
+/// `$name(a)` for a column-major `n x n` matrix `a`: symmetrises `a` in
+/// place; returns whether it is positive definite (a Cholesky factorisation
+/// succeeds), in which case it is its own projection.
 macro_rules! fixed_definiteness {
     ($name:ident, $n:literal) => {
         fn $name(a: &mut [f64]) -> bool {
@@ -108,6 +83,29 @@ macro_rules! fixed_definiteness {
 }
 fixed_definiteness!(definite_4, 4);
 fixed_definiteness!(definite_9, 9);
+
+/// `$name(a)` for a symmetric column-major `n x n` matrix `a`: replaces it
+/// by `Q max(Lambda, 0) Q^T` (its eigen-decomposition, fixed-size, on the
+/// stack); returns whether any eigenvalue was negative (else `a` is left as
+/// it is).
+macro_rules! fixed_clamp {
+    ($name:ident, $n:literal) => {
+        fn $name(a: &mut [f64]) -> bool {
+            let eigen = SMatrix::<f64, $n, $n>::from_column_slice(a).symmetric_eigen();
+            if eigen.eigenvalues.iter().all(|&l| l >= 0.0) {
+                return false;
+            }
+            let q = eigen.eigenvectors;
+            let clamped = eigen.eigenvalues.map(|l| l.max(0.0));
+            let projected = q * SMatrix::<f64, $n, $n>::from_diagonal(&clamped) * q.transpose();
+            a.copy_from_slice(projected.as_slice());
+            true
+        }
+    };
+}
+fixed_clamp!(clamp_3, 3);
+fixed_clamp!(clamp_4, 4);
+fixed_clamp!(clamp_9, 9);
 
 /// Replaces the column-major `D^2 x D^2` stress derivative `a` by its
 /// symmetric part and says whether that is positive definite, in which case
@@ -196,18 +194,7 @@ fn project_small<const D: usize>(m: &Matrix<D>) -> (Matrix<D>, bool) {
             out.as_mut_slice().copy_from_slice(&[p, q, q, r]);
             clamped
         }
-        3 => {
-            let eigen = Matrix3::from_column_slice(m.as_slice()).symmetric_eigen();
-            let clamped = eigen.eigenvalues.iter().any(|&l| l < 0.0);
-            if clamped {
-                let q = eigen.eigenvectors;
-                let projected = q
-                    * Matrix3::from_diagonal(&eigen.eigenvalues.map(|l| l.max(0.0)))
-                    * q.transpose();
-                out.as_mut_slice().copy_from_slice(projected.as_slice());
-            }
-            clamped
-        }
+        3 => clamp_3(out.as_mut_slice()),
         _ => unimplemented!("projection of a {D} x {D} block"),
     };
     (out, clamped)
