@@ -21,6 +21,7 @@ pub fn rotation_svd<const D: usize>(f: &Matrix<D>) -> (Matrix<D>, Vector<D>, Mat
     );
     macro_rules! decompose {
         ($matrix:ty) => {{
+            // Singular values sorted, largest first.
             let svd = <$matrix>::from_column_slice(f.as_slice()).svd(true, true);
             let (Some(u_d), Some(v_t)) = (svd.u, svd.v_t) else {
                 unreachable!("both factors were requested")
@@ -42,17 +43,6 @@ pub fn rotation_svd<const D: usize>(f: &Matrix<D>) -> (Matrix<D>, Vector<D>, Mat
         2 => decompose!(Matrix2<f64>),
         3 => decompose!(Matrix3<f64>),
         _ => unimplemented!("SVD of a {D} x {D} matrix"),
-    }
-    // Sort by magnitude, largest first (nalgebra's small SVDs may not).
-    for i in 0..D {
-        let largest = (i..D)
-            .max_by(|&a, &b| sigma[a].total_cmp(&sigma[b]))
-            .unwrap_or(i);
-        if largest != i {
-            sigma.swap_rows(i, largest);
-            u.swap_columns(i, largest);
-            v.swap_columns(i, largest);
-        }
     }
     if is_reflection(&u) {
         u.column_mut(D - 1).neg_mut();
