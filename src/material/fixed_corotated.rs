@@ -16,8 +16,8 @@
 //! Hessian's projection onto the PSD cone (in `energy::elasticity`) is the
 //! projection this material needs.
 
-use super::{HyperelasticMaterial, LameParameters, cofactor, cofactor_differential, unit};
-use crate::math::{Matrix, StressDerivative, determinant, rotation_svd};
+use super::{HyperelasticMaterial, LameParameters, cofactor_differential, unit};
+use crate::math::{Matrix, StressDerivative, cofactor, determinant, rotation_svd};
 
 /// The smallest `|sigma_i + sigma_j|` used in `dR`.
 const MIN_SINGULAR_SUM: f64 = 1e-12;

@@ -34,7 +34,7 @@ pub use neo_hookean::NeoHookean;
 pub use st_venant_kirchhoff::StVenantKirchhoff;
 pub use stable_neo_hookean::StableNeoHookean;
 
-use crate::math::{Matrix, StressDerivative};
+use crate::math::{Matrix, StressDerivative, cofactor};
 use serde::{Deserialize, Serialize};
 
 /// A hyperelastic material in `D` dimensions.
@@ -66,25 +66,6 @@ fn unit<const D: usize>(k: usize, l: usize) -> Matrix<D> {
     let mut m = Matrix::<D>::zeros();
     m[(k, l)] = 1.0;
     m
-}
-
-/// The cofactor matrix `cof F = dJ/dF` (`= J F^{-T}` where `F` is
-/// invertible), defined for every `F`. In 3D its columns are
-/// `f_1 x f_2, f_2 x f_0, f_0 x f_1` for the columns `f_i` of `F`.
-fn cofactor<const D: usize>(f: &Matrix<D>) -> Matrix<D> {
-    match D {
-        1 => Matrix::<D>::from_element(1.0),
-        2 => Matrix::<D>::from_fn(|i, j| {
-            let sign = if (i + j) % 2 == 0 { 1.0 } else { -1.0 };
-            sign * f[(1 - i, 1 - j)]
-        }),
-        3 => Matrix::<D>::from_fn(|i, j| {
-            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
-            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
-            f[(i1, j1)] * f[(i2, j2)] - f[(i2, j1)] * f[(i1, j2)]
-        }),
-        _ => unimplemented!("cofactor of a {D} x {D} matrix"),
-    }
 }
 
 /// The differential of the cofactor, `d(cof F)[dF]`: linear in `dF` (in 2D

@@ -5,8 +5,8 @@
 //! Stable under compression; the energy is `+inf` for `J <= 0` and the line
 //! search never accepts such a state.
 
-use super::{HyperelasticMaterial, LameParameters, unit};
-use crate::math::{Matrix, StressDerivative, determinant, inverse};
+use super::{HyperelasticMaterial, LameParameters};
+use crate::math::{Matrix, StressDerivative, cofactor, determinant};
 
 /// Compressible Neo-Hookean (the form of Smith et al., log-barrier in `J`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -27,31 +27,37 @@ impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
     }
 
     fn first_piola(&self, f: &Matrix<D>) -> Matrix<D> {
-        let j = determinant(f);
-        let Some(f_inv) = inverse(f).filter(|_| j > 0.0) else {
-            return Matrix::<D>::from_element(f64::NAN);
-        };
-        let f_inv_t = f_inv.transpose();
-        let LameParameters { mu, lambda } = self.lame;
-        (f - f_inv_t) * mu + f_inv_t * (lambda * j.ln())
+        self.first_piola_and_derivative(f).0
     }
 
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
+        self.first_piola_and_derivative(f).1
+    }
+
+    /// With `H = F^{-T}`, entry `(i, j)` of `dP/dF_kl` is
+    /// `mu d_ik d_jl + (mu - lambda ln J) H_il H_kj + lambda H_kl H_ij`
+    /// (the three terms of `dP` above with `dF = e_k e_l^T`).
+    fn first_piola_and_derivative(&self, f: &Matrix<D>) -> (Matrix<D>, StressDerivative<D>) {
         let j = determinant(f);
-        let Some(f_inv) = inverse(f).filter(|_| j > 0.0) else {
-            return [[Matrix::<D>::from_element(f64::NAN); D]; D];
-        };
-        let f_inv_t = f_inv.transpose();
+        if !(j > 0.0) {
+            let nan = Matrix::<D>::from_element(f64::NAN);
+            return (nan, [[nan; D]; D]);
+        }
+        let h = cofactor(f) / j;
         let LameParameters { mu, lambda } = self.lame;
         let ln_j = j.ln();
-        std::array::from_fn(|k| {
+        let p = (f - h) * mu + h * (lambda * ln_j);
+        let c = mu - lambda * ln_j;
+        let dp = std::array::from_fn(|k| {
             std::array::from_fn(|l| {
-                let df = unit::<D>(k, l);
-                df * mu
-                    + f_inv_t * df.transpose() * f_inv_t * (mu - lambda * ln_j)
-                    + f_inv_t * (lambda * (f_inv * df).trace())
+                let mut block = Matrix::<D>::from_fn(|r, s| {
+                    c * h[(r, l)] * h[(k, s)] + lambda * h[(k, l)] * h[(r, s)]
+                });
+                block[(k, l)] += mu;
+                block
             })
-        })
+        });
+        (p, dp)
     }
 
     fn forbids_inversion(&self) -> bool {

@@ -17,8 +17,8 @@
 //! No logarithm and no division: the energy is finite for flat and inverted
 //! elements and pushes them back (the line search still keeps `J > 0`).
 
-use super::{HyperelasticMaterial, LameParameters, cofactor, cofactor_differential, unit};
-use crate::math::{Matrix, StressDerivative, determinant};
+use super::{HyperelasticMaterial, LameParameters, cofactor_differential, unit};
+use crate::math::{Matrix, StressDerivative, cofactor, determinant};
 
 /// Stable Neo-Hookean; `lame` is the scene's pair, `lambda + mu` is used inside.
 #[derive(Debug, Clone, Copy, PartialEq)]

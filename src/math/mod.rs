@@ -31,38 +31,51 @@ pub const fn simplex_vertices(d: usize) -> usize {
 /// The vertical axis: y in 2D and in 3D (3D scenes are y-up, as in the report).
 pub const UP_AXIS: usize = 1;
 
-/// Determinant of a small square matrix by Gaussian elimination with partial
-/// pivoting.
+/// The cofactor matrix `cof F = dJ/dF` (`= J F^{-T}` where `F` is
+/// invertible), defined for every `F`. In 3D its columns are
+/// `f_1 x f_2, f_2 x f_0, f_0 x f_1` for the columns `f_i` of `F`.
+pub fn cofactor<const D: usize>(f: &Matrix<D>) -> Matrix<D> {
+    match D {
+        1 => Matrix::<D>::from_element(1.0),
+        2 => Matrix::<D>::from_fn(|i, j| {
+            let sign = if (i + j) % 2 == 0 { 1.0 } else { -1.0 };
+            sign * f[(1 - i, 1 - j)]
+        }),
+        3 => Matrix::<D>::from_fn(|i, j| {
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+            f[(i1, j1)] * f[(i2, j2)] - f[(i2, j1)] * f[(i1, j2)]
+        }),
+        _ => unimplemented!("cofactor of a {D} x {D} matrix"),
+    }
+}
+
+/// Determinant of a `D x D` matrix (`D <= 3`), expanded along the first
+/// row: `det F = sum_j F_0j (cof F)_0j`, in closed form.
 ///
 /// nalgebra's own `determinant` needs a typenum bound that a generic
-/// `const D: usize` cannot name, so the crate keeps this one for `D <= 3`.
+/// `const D: usize` cannot name, so the crate keeps this one. It is called
+/// for every element in every energy evaluation: the closed form costs a
+/// handful of multiplications where elimination with pivoting branched.
 pub fn determinant<const D: usize>(m: &Matrix<D>) -> f64 {
-    let mut a = *m;
-    let mut det = 1.0;
-    for col in 0..D {
-        let pivot = (col..D)
-            .max_by(|&i, &j| a[(i, col)].abs().total_cmp(&a[(j, col)].abs()))
-            .unwrap_or(col);
-        if a[(pivot, col)] == 0.0 {
-            return 0.0;
+    match D {
+        1 => m[(0, 0)],
+        2 => m[(0, 0)] * m[(1, 1)] - m[(0, 1)] * m[(1, 0)],
+        3 => {
+            m[(0, 0)] * (m[(1, 1)] * m[(2, 2)] - m[(2, 1)] * m[(1, 2)])
+                + m[(0, 1)] * (m[(1, 2)] * m[(2, 0)] - m[(2, 2)] * m[(1, 0)])
+                + m[(0, 2)] * (m[(1, 0)] * m[(2, 1)] - m[(2, 0)] * m[(1, 1)])
         }
-        if pivot != col {
-            a.swap_rows(pivot, col);
-            det = -det;
-        }
-        det *= a[(col, col)];
-        for row in col + 1..D {
-            let factor = a[(row, col)] / a[(col, col)];
-            for c in col..D {
-                a[(row, c)] -= factor * a[(col, c)];
-            }
-        }
+        _ => unimplemented!("determinant of a {D} x {D} matrix"),
     }
-    det
 }
 
 /// Inverse of a small square matrix by Gauss-Jordan elimination with partial
-/// pivoting (`None` when singular), allocation-free for the hot loops.
+/// pivoting (`None` when singular), allocation-free. Used where an inverse
+/// must be as exact as elimination makes it (rest shapes: a box's `D_m^{-1}`
+/// comes out exact, so an undeformed body has exactly `F = I` and zero
+/// energy); the materials' hot loops use the cofactor instead
+/// (`F^{-T} = cof F / det F`).
 pub fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
     let mut a = *m;
     let mut inv = Matrix::<D>::identity();

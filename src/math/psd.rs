@@ -70,14 +70,41 @@ pub fn project_stress_derivative_to_psd<const D: usize>(a: &mut [f64]) -> bool {
 
 /// `$name(a)` for a column-major `n x n` matrix `a`: symmetrises `a` in
 /// place; returns whether it is positive definite (a Cholesky factorisation
-/// succeeds), in which case it is its own projection.
+/// of a copy on the stack succeeds; it stops at the first pivot that is not
+/// positive), in which case it is its own projection.
 macro_rules! fixed_definiteness {
     ($name:ident, $n:literal) => {
         fn $name(a: &mut [f64]) -> bool {
-            let m = SMatrix::<f64, $n, $n>::from_column_slice(a);
-            let symmetric = (m + m.transpose()) * 0.5;
-            a.copy_from_slice(symmetric.as_slice());
-            symmetric.cholesky().is_some()
+            const N: usize = $n;
+            let a: &mut [f64; N * N] = a.try_into().expect("an n x n matrix");
+            for col in 0..N {
+                for row in col + 1..N {
+                    let mean = 0.5 * (a[col * N + row] + a[row * N + col]);
+                    a[col * N + row] = mean;
+                    a[row * N + col] = mean;
+                }
+            }
+            // Lower factor, column by column (left-looking): l[j][i], i >= j.
+            let mut l = [0.0; N * N];
+            for j in 0..N {
+                let mut pivot = a[j * N + j];
+                for k in 0..j {
+                    pivot -= l[k * N + j] * l[k * N + j];
+                }
+                if !(pivot > 0.0) {
+                    return false;
+                }
+                let pivot = pivot.sqrt();
+                l[j * N + j] = pivot;
+                for i in j + 1..N {
+                    let mut value = a[j * N + i];
+                    for k in 0..j {
+                        value -= l[k * N + i] * l[k * N + j];
+                    }
+                    l[j * N + i] = value / pivot;
+                }
+            }
+            true
         }
     };
 }
