@@ -109,8 +109,10 @@ fn jacobi_svd3(f: &[f64]) -> (Flat3, [f64; 3], Flat3) {
             }
             // The rotation that zeroes S_pq: t = tan(theta), the smaller root.
             let theta = (at(&s, q, q) - at(&s, p, p)) / (2.0 * spq);
-            let t = theta.signum() / (theta.abs() + theta.hypot(1.0));
-            let c = 1.0 / t.hypot(1.0);
+            // (`sqrt`, not `hypot`, a slow library call: `theta^2` may
+            // overflow to infinity, which gives `t = 0`, the right limit.)
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let c = 1.0 / (t * t + 1.0).sqrt();
             let sn = t * c;
             // S <- J^T S J, V <- V J.
             rotate_columns(&mut s, p, q, c, sn);
@@ -147,7 +149,7 @@ fn jacobi_svd3(f: &[f64]) -> (Flat3, [f64; 3], Flat3) {
     let mut u: Flat3 = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
     for (p, q) in PAIRS {
         let (x, y) = (b[3 * p + p], b[3 * p + q]);
-        let r = x.hypot(y);
+        let r = (x * x + y * y).sqrt();
         let (c, sn) = if r == 0.0 { (1.0, 0.0) } else { (x / r, y / r) };
         for k in 0..3 {
             let (bp, bq) = (b[3 * k + p], b[3 * k + q]);
