@@ -2,6 +2,8 @@
 
 #[path = "cli_common.rs"]
 mod common;
+#[cfg(unix)]
+mod fake_ffmpeg;
 use common::*;
 
 #[test]
@@ -122,4 +124,32 @@ fn a_fixed_camera_and_range_render_while_simulating() {
         }
         assert!(tmp.path().join(run).join("video.png").exists(), "{run}");
     }
+}
+
+/// A run asks ffmpeg for its encoders once, not once per check (choosing
+/// the videos, validating them, opening the writer each asked, at about
+/// 0.1 s a time before the first frame).
+#[cfg(unix)]
+#[test]
+fn a_run_lists_ffmpegs_encoders_once() {
+    // Reads the frames it is fed and exits: the MP4 is empty but complete.
+    let fake = fake_ffmpeg::FakeFfmpeg::new("cat > /dev/null");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = fake
+        .elasto(&[
+            "run",
+            "--frames",
+            "3",
+            "--resolution",
+            "64x48",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert_code(&o, 0);
+    assert!(out.join("video.mp4").exists());
+    assert_eq!(fake.encoder_listings(), 1);
 }

@@ -23,10 +23,11 @@ use super::partial_file::{PartialFile, SpawnError, kill_and_reap, spawn_process,
 use super::video::{VideoSpec, VideoWriter};
 use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, bounded};
 use image::RgbaImage;
+use std::ffi::OsString;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// The environment variable that sets the ffmpeg timeout, in seconds.
@@ -67,10 +68,30 @@ fn parse_timeout(value: Option<&std::ffi::OsStr>) -> Result<Duration, RenderErro
         })
 }
 
+/// The `PATH` under which ffmpeg last listed libx264: a run asks up to three
+/// times (choosing its videos, validating them, opening the writer), and
+/// each `ffmpeg -encoders` costs about 0.1 s before anything is drawn.
+static H264_FOUND_ON_PATH: Mutex<Option<Option<OsString>>> = Mutex::new(None);
+
 /// Checks that `ffmpeg` on `PATH` can encode H.264 (lists libx264 among its
-/// encoders), waiting for it at most the ffmpeg timeout.
+/// encoders), waiting for it at most the ffmpeg timeout. A success is
+/// remembered for the process as long as `PATH` stays the same.
 pub(crate) fn check_h264() -> Result<(), RenderError> {
     let timeout = ffmpeg_timeout()?;
+    let path = std::env::var_os("PATH");
+    let mut found = H264_FOUND_ON_PATH
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    if found.as_ref() == Some(&path) {
+        return Ok(());
+    }
+    list_h264(timeout)?;
+    *found = Some(path);
+    Ok(())
+}
+
+/// Runs `ffmpeg -encoders` and looks for libx264.
+fn list_h264(timeout: Duration) -> Result<(), RenderError> {
     let failed = |message: String| RenderError::Ffmpeg {
         path: "video.mp4".into(),
         message,

@@ -10,7 +10,8 @@ use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
 /// A folder holding an executable `ffmpeg` script that lists libx264 when
-/// asked for its encoders and otherwise writes its process id to `pid` in
+/// asked for its encoders (and counts the times it was asked, in
+/// `listings`) and otherwise writes its process id to `pid` in
 /// that folder, creates its output file (the last argument), and runs
 /// `body` with the output file in `$last`.
 pub struct FakeFfmpeg {
@@ -23,6 +24,7 @@ impl FakeFfmpeg {
         let script = format!(
             "#!/bin/sh\n\
              if [ \"$2\" = \"-encoders\" ]; then\n\
+             \x20   echo listed >> '{listings}'\n\
              \x20   echo ' V..... libx264              libx264 H.264 (fake)'\n\
              \x20   exit 0\n\
              fi\n\
@@ -30,7 +32,8 @@ impl FakeFfmpeg {
              : > \"$last\"\n\
              echo $$ > '{}'\n\
              {body}\n",
-            dir.path().join("pid").display()
+            dir.path().join("pid").display(),
+            listings = dir.path().join("listings").display(),
         );
         let path = dir.path().join("ffmpeg");
         std::fs::write(&path, script).unwrap();
@@ -55,6 +58,13 @@ impl FakeFfmpeg {
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
         command
+    }
+
+    /// How many times the fake was asked to list its encoders.
+    pub fn encoder_listings(&self) -> usize {
+        std::fs::read_to_string(self.dir.path().join("listings"))
+            .map(|text| text.lines().count())
+            .unwrap_or(0)
     }
 
     /// The process id the fake wrote once it ran as the encoder.
