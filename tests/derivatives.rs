@@ -11,7 +11,9 @@ use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use elasto::material::{
     FixedCorotated, HyperelasticMaterial, NeoHookean, StVenantKirchhoff, StableNeoHookean,
 };
-use elasto::math::{DenseMatrix, Matrix, Vector, project_to_psd};
+use elasto::math::{
+    DenseMatrix, Matrix, Vector, project_to_psd, rotation_svd, svd_frame_blocks_by_rotation,
+};
 use elasto::mesh::Mesh;
 use std::sync::Arc;
 use support::*;
@@ -28,6 +30,7 @@ both_dimensions! {
     robust_materials_match_finite_differences_compressed_and_inverted => robust_materials_2d, robust_materials_3d;
     every_material_is_stress_free_at_rest => rest_stability_2d, rest_stability_3d;
     stable_neo_hookean_energy_is_finite_when_inverted => stable_neo_hookean_inverted_2d, stable_neo_hookean_inverted_3d;
+    svd_frame_blocks_match_the_rotated_stress_derivative => svd_frame_blocks_2d, svd_frame_blocks_3d;
 }
 
 fn for_each_material<const D: usize>(mut check: impl FnMut(&str, &dyn HyperelasticMaterial<D>)) {
@@ -134,6 +137,47 @@ fn stable_neo_hookean_energy_is_finite_when_inverted<const D: usize>() {
     assert!(p[(0, 0)] < 0.0, "{D}D: P = {p}");
     let zero = Matrix::<D>::zeros();
     assert!(HyperelasticMaterial::<D>::energy_density(&material, &zero).is_finite());
+}
+
+/// A material's closed-form blocks of `dP/dF` in the SVD frame are its own
+/// `dP/dF` rotated into that frame, at rest (repeated singular values),
+/// stretched and compressed; at least one material has them.
+fn svd_frame_blocks_match_the_rotated_stress_derivative<const D: usize>() {
+    let mut rng = Rng::new(7);
+    let mut checked = 0;
+    for_each_material::<D>(|name, material| {
+        let mut cases = vec![Matrix::<D>::identity(), Matrix::<D>::identity() * 0.7];
+        cases.extend((0..6).map(|_| random_f::<D>(&mut rng, 0.3)));
+        for f in cases {
+            let (u, sigma, v) = rotation_svd(&f);
+            let Some(closed_form) = material.stress_derivative_in_svd_frame(&sigma) else {
+                continue;
+            };
+            let dp = material.first_piola_derivative(&f);
+            let n = D * D;
+            let flat: Vec<f64> = (0..n * n)
+                .map(|i| dp[(i / n) / D][(i / n) % D][((i % n) / D, (i % n) % D)])
+                .collect();
+            let rotated = svd_frame_blocks_by_rotation::<D>(&flat, &u, &v)
+                .unwrap_or_else(|| panic!("{name} {D}D: dP/dF not block-diagonal at {f}"));
+            let scale = rotated.stretch.amax().max(1.0);
+            let err = (closed_form.stretch - rotated.stretch).amax() / scale;
+            assert!(
+                err < 1e-10,
+                "{name} {D}D: stretch block rel. error {err:e} at {f}"
+            );
+            for (t, (a, b)) in closed_form.twist.iter().zip(&rotated.twist).enumerate() {
+                for (x, y) in a.iter().zip(b) {
+                    assert!(
+                        (x - y).abs() < 1e-10 * scale,
+                        "{name} {D}D: twist block {t}: {a:?} against {b:?} at {f}"
+                    );
+                }
+            }
+            checked += 1;
+        }
+    });
+    assert!(checked >= 8, "{D}D: only {checked} closed-form cases");
 }
 
 fn stress_is_the_energy_derivative<const D: usize>() {

@@ -33,8 +33,9 @@
 use crate::assembly::element_slot_index;
 use crate::material::HyperelasticMaterial;
 use crate::math::{
-    Matrix, SvdFrameProjection, TWIST_PAIRS, Vector, project_isotropic_in_svd_frame,
-    project_stress_derivative_to_psd, symmetrise_and_test_definite,
+    Matrix, SvdFrameProjection, TWIST_PAIRS, Vector, project_stress_derivative_to_psd,
+    project_svd_frame_blocks, rotation_svd, svd_frame_blocks_by_rotation,
+    symmetrise_and_test_definite,
 };
 use crate::mesh::{Mesh, RestElement};
 
@@ -96,9 +97,15 @@ pub fn element_gradient_and_hessian<const D: usize, M: HyperelasticMaterial<D>>(
         }
     }
     if project && !symmetrise_and_test_definite::<D>(&mut a_flat[..strain * strain]) {
-        // Every material here is isotropic: the block-diagonal projection,
+        // Every material here is isotropic: the block-diagonal projection in
+        // the SVD frame (blocks in closed form where the material has them),
         // used without rotating it back.
-        if let Some(frame) = project_isotropic_in_svd_frame::<D>(&a_flat[..strain * strain], &f) {
+        let (u, sigma, v) = rotation_svd(&f);
+        let blocks = material
+            .stress_derivative_in_svd_frame(&sigma)
+            .or_else(|| svd_frame_blocks_by_rotation::<D>(&a_flat[..strain * strain], &u, &v));
+        if let Some(blocks) = blocks {
+            let frame = project_svd_frame_blocks(u, v, &blocks);
             hessian_in_svd_frame(&frame, &g, weight, hessian);
             return;
         }

@@ -34,7 +34,7 @@ pub use neo_hookean::NeoHookean;
 pub use st_venant_kirchhoff::StVenantKirchhoff;
 pub use stable_neo_hookean::StableNeoHookean;
 
-use crate::math::{Matrix, StressDerivative, cofactor};
+use crate::math::{Matrix, StressDerivative, SvdFrameBlocks, Vector, cofactor};
 use serde::{Deserialize, Serialize};
 
 /// A hyperelastic material in `D` dimensions.
@@ -49,6 +49,17 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     /// a material may share the work of the two (an inverse, a logarithm).
     fn first_piola_and_derivative(&self, f: &Matrix<D>) -> (Matrix<D>, StressDerivative<D>) {
         (self.first_piola(f), self.first_piola_derivative(f))
+    }
+    /// The blocks of `dP/dF` in the SVD frame of `F = U diag(sigma) V^T`
+    /// (`U`, `V` rotations; `dP/dF` of an isotropic material at the diagonal
+    /// `diag(sigma)`, Smith et al. 2019) in closed form, for the element
+    /// kernel's PSD projection. `None`, the default, has the kernel rotate
+    /// `dP/dF` into the frame instead (the same blocks, at about a thousand
+    /// multiplications in 3D); `tests/derivatives.rs` checks that the two
+    /// agree for every material that has them. Fixed corotated has none: its
+    /// twist blocks divide by `sigma_a + sigma_b`.
+    fn stress_derivative_in_svd_frame(&self, _sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
+        None
     }
     /// Whether the energy is infinite for `det F <= 0`. For information only:
     /// the line search keeps every element uninverted whatever the material

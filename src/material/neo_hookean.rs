@@ -6,7 +6,9 @@
 //! search never accepts such a state.
 
 use super::{HyperelasticMaterial, LameParameters};
-use crate::math::{Matrix, StressDerivative, cofactor, determinant};
+use crate::math::{
+    Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector, cofactor, determinant,
+};
 
 /// Compressible Neo-Hookean (the form of Smith et al., log-barrier in `J`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -58,6 +60,31 @@ impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
             })
         });
         (p, dp)
+    }
+
+    /// At `F = diag(sigma)`, `H = diag(1 / sigma)`: the stretch block is
+    /// `mu I + (mu - lambda ln J) diag(1 / sigma_a^2) + lambda h h^T` with
+    /// `h_a = 1 / sigma_a`, and the twist block of the pair `(a, b)` is
+    /// `[[mu, c], [c, mu]]` with `c = (mu - lambda ln J) / (sigma_a sigma_b)`
+    /// (eigenvalues `mu +- c`: 0 and `2 mu` at rest, one negative under
+    /// compression). `None` for an inverted `F`, where the energy is infinite.
+    fn stress_derivative_in_svd_frame(&self, sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
+        let j: f64 = sigma.iter().product();
+        if !(j > 0.0) {
+            return None;
+        }
+        let LameParameters { mu, lambda } = self.lame;
+        let c = mu - lambda * j.ln();
+        let h = sigma.map(|s| 1.0 / s);
+        let mut stretch = h * h.transpose() * lambda;
+        for a in 0..D {
+            stretch[(a, a)] += mu + c * h[a] * h[a];
+        }
+        let mut twist = [[0.0; 3]; 3];
+        for (block, &(a, b)) in twist.iter_mut().zip(&TWIST_PAIRS).take(D * (D - 1) / 2) {
+            *block = [mu, c * h[a] * h[b], mu];
+        }
+        Some(SvdFrameBlocks { stretch, twist })
     }
 
     fn forbids_inversion(&self) -> bool {

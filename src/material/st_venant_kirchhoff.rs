@@ -7,7 +7,7 @@
 //! `det F = 0` at finite energy.
 
 use super::{HyperelasticMaterial, LameParameters, unit};
-use crate::math::{Matrix, StressDerivative};
+use crate::math::{Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector};
 
 /// St. Venant-Kirchhoff: `S = 2 mu E + lambda tr(E) I`, `P = F S`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,6 +45,28 @@ impl<const D: usize> HyperelasticMaterial<D> for StVenantKirchhoff {
                 df * s + f * self.second_piola(&de)
             })
         })
+    }
+
+    /// At `F = diag(sigma)`, `S_aa = mu (sigma_a^2 - 1) + lambda/2 sum_c
+    /// (sigma_c^2 - 1)`: the stretch block is
+    /// `diag(S_aa + 2 mu sigma_a^2) + lambda sigma sigma^T`, and the twist
+    /// block of `(a, b)` is `[[p, q], [q, p]]` with
+    /// `p = mu (sigma_a^2 + sigma_b^2 - 1) + lambda/2 sum_c (sigma_c^2 - 1)`
+    /// and `q = mu sigma_a sigma_b`.
+    fn stress_derivative_in_svd_frame(&self, sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
+        let LameParameters { mu, lambda } = self.lame;
+        let volumetric = 0.5 * lambda * sigma.iter().map(|s| s * s - 1.0).sum::<f64>();
+        let mut stretch = sigma * sigma.transpose() * lambda;
+        for a in 0..D {
+            let s_aa = mu * (sigma[a] * sigma[a] - 1.0) + volumetric;
+            stretch[(a, a)] += s_aa + 2.0 * mu * sigma[a] * sigma[a];
+        }
+        let mut twist = [[0.0; 3]; 3];
+        for (block, &(a, b)) in twist.iter_mut().zip(&TWIST_PAIRS).take(D * (D - 1) / 2) {
+            let p = mu * (sigma[a] * sigma[a] + sigma[b] * sigma[b] - 1.0) + volumetric;
+            *block = [p, mu * sigma[a] * sigma[b], p];
+        }
+        Some(SvdFrameBlocks { stretch, twist })
     }
 
     fn forbids_inversion(&self) -> bool {

@@ -18,7 +18,9 @@
 //! elements and pushes them back (the line search still keeps `J > 0`).
 
 use super::{HyperelasticMaterial, LameParameters, cofactor_differential, unit};
-use crate::math::{Matrix, StressDerivative, cofactor, determinant};
+use crate::math::{
+    Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector, cofactor, determinant,
+};
 
 /// Stable Neo-Hookean; `lame` is the scene's pair, `lambda + mu` is used inside.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,6 +61,37 @@ impl<const D: usize> HyperelasticMaterial<D> for StableNeoHookean {
                     + cofactor_differential(f, &df) * (lambda * (j - 1.0) - mu)
             })
         })
+    }
+
+    /// With `g_a = dJ/dsigma_a` (the product of the other singular values)
+    /// and `k = lambda' (J - 1) - mu`: the stretch block is
+    /// `mu I + lambda' g g^T + k d2J/dsigma2` (off the diagonal, the product
+    /// of the values other than `a` and `b`: the third one in 3D, 1 in 2D),
+    /// and the twist block of `(a, b)` is `[[mu, -k m], [-k m, mu]]` with
+    /// `m` that same product. Signed `sigma` (inverted elements) included.
+    fn stress_derivative_in_svd_frame(&self, sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
+        let (mu, lambda) = self.constants();
+        let j: f64 = sigma.iter().product();
+        let k = lambda * (j - 1.0) - mu;
+        // The product of the singular values other than `a` and `b`.
+        let others = |a: usize, b: usize| -> f64 {
+            (0..D)
+                .filter(|&c| c != a && c != b)
+                .map(|c| sigma[c])
+                .product()
+        };
+        let g = Vector::<D>::from_fn(|a, _| others(a, a));
+        let mut stretch = g * g.transpose() * lambda;
+        for a in 0..D {
+            for b in 0..D {
+                stretch[(a, b)] += if a == b { mu } else { k * others(a, b) };
+            }
+        }
+        let mut twist = [[0.0; 3]; 3];
+        for (block, &(a, b)) in twist.iter_mut().zip(&TWIST_PAIRS).take(D * (D - 1) / 2) {
+            *block = [mu, -k * others(a, b), mu];
+        }
+        Some(SvdFrameBlocks { stretch, twist })
     }
 
     fn forbids_inversion(&self) -> bool {

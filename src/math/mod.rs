@@ -112,8 +112,9 @@ mod svd;
 
 pub use polynomial::{Polynomial, first_root_in};
 pub use psd::{
-    SvdFrameProjection, TWIST_PAIRS, project_isotropic_in_svd_frame,
-    project_stress_derivative_to_psd, project_to_psd, symmetrise_and_test_definite,
+    SvdFrameBlocks, SvdFrameProjection, TWIST_PAIRS, project_stress_derivative_to_psd,
+    project_svd_frame_blocks, project_to_psd, svd_frame_blocks_by_rotation,
+    symmetrise_and_test_definite,
 };
 pub use svd::rotation_svd;
 

@@ -12,7 +12,8 @@
 //! definite: the Newton direction is always a descent direction.
 //! [`project_to_psd`] projects a matrix of any size (tests, analysis).
 //!
-//! **Isotropic materials** ([`project_isotropic_in_svd_frame`]).
+//! **Isotropic materials** ([`svd_frame_blocks_by_rotation`],
+//! [`project_svd_frame_blocks`]).
 //! With the rotation-variant SVD `F = U Sigma V^T` (`U`, `V` rotations), an
 //! isotropic energy has `dP/dF(F)[U dS V^T] = U dP/dF(Sigma)[dS] V^T`, so in
 //! the basis `K = U (x) V` (`K_{(k j),(a b)} = U_{k a} V_{j b}`) the stress
@@ -25,12 +26,14 @@
 //! eigen-decomposition (it does not depend on the orthonormal basis), at a
 //! fraction of the cost; the element kernel does not even rotate back, it
 //! builds `V G^T A_+ G = V W^T A'_+ W` from `W = K^T G` (a rank-one pattern
-//! per column) and the sparse blocks. Should `A'` not be block-diagonal (a
-//! material that is not isotropic), the full eigen-decomposition runs
-//! instead.
+//! per column) and the sparse blocks. The blocks come in closed form from
+//! the material where it has them
+//! (`HyperelasticMaterial::stress_derivative_in_svd_frame`: a few dozen
+//! operations from `sigma`), otherwise from rotating its `dP/dF` into the
+//! frame. Should the rotated `A'` not be block-diagonal (a material that is
+//! not isotropic), the full eigen-decomposition runs instead.
 
 use super::Matrix;
-use super::svd::rotation_svd;
 use nalgebra::{DMatrix, SMatrix};
 
 /// Entries of the largest stress derivative (`9 x 9`, 3D).
@@ -227,26 +230,36 @@ fn project_small<const D: usize>(m: &Matrix<D>) -> (Matrix<D>, bool) {
     (out, clamped)
 }
 
-/// Projects the stress derivative `a` (column-major `D^2 x D^2`, row
-/// `(k j) = k D + j`, column `(l n)`) of an isotropic material at `f` onto
-/// the PSD cone, in the SVD frame of `f`. `None` when `a` is not
-/// block-diagonal in that frame (the material is not isotropic): then the
-/// full eigen-decomposition ([`project_stress_derivative_to_psd`]) is needed.
-///
-/// `A' = K^T A K` is formed as a tensor rotation, `U^T M V` on each `D x D`
-/// column and then each row of `A` (`4 D^5` multiplications, 972 in 3D,
-/// not the `2 D^6 = 1458` of two dense products).
-pub fn project_isotropic_in_svd_frame<const D: usize>(
+/// The blocks of an isotropic material's stress derivative in the SVD frame
+/// of `F = U diag(sigma) V^T` (Smith et al. 2019), before projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SvdFrameBlocks<const D: usize> {
+    /// `A'_{(a a),(b b)}`, the block coupling the stretches.
+    pub stretch: Matrix<D>,
+    /// `[A'_{(a b),(a b)}, A'_{(a b),(b a)}, A'_{(b a),(b a)}]` for the pairs
+    /// of [`TWIST_PAIRS`] (the first `D (D - 1) / 2` are used).
+    pub twist: [[f64; 3]; 3],
+}
+
+/// The blocks of the stress derivative `a` (column-major `D^2 x D^2`, row
+/// `(k j) = k D + j`, column `(l n)`) in the frame of the rotations `u`,
+/// `v`: `A' = K^T A K`, `K = U (x) V`, formed as a tensor rotation, `U^T M V`
+/// on each `D x D` column and then each row of `A` (`4 D^5` multiplications,
+/// 972 in 3D, not the `2 D^6 = 1458` of two dense products). `None` when `A'`
+/// is not block-diagonal (the material is not isotropic): then the full
+/// eigen-decomposition ([`project_stress_derivative_to_psd`]) is needed.
+/// For materials that do not give their blocks in closed form.
+pub fn svd_frame_blocks_by_rotation<const D: usize>(
     a: &[f64],
-    f: &Matrix<D>,
-) -> Option<SvdFrameProjection<D>> {
+    u: &Matrix<D>,
+    v: &Matrix<D>,
+) -> Option<SvdFrameBlocks<D>> {
     let n = D * D;
-    let (u, _, v) = rotation_svd(f);
     // C = K^T A, column by column; then A' = C K, row by row.
     let mut c = [0.0; MAX_STRAIN_SQUARED];
     for col in 0..n {
         let column = &a[col * n..col * n + n];
-        let r = rotate_into_frame(&u, &v, |k, j| column[k * D + j]);
+        let r = rotate_into_frame(u, v, |k, j| column[k * D + j]);
         for i in 0..D {
             for j in 0..D {
                 c[col * n + i * D + j] = r[(i, j)];
@@ -255,7 +268,7 @@ pub fn project_isotropic_in_svd_frame<const D: usize>(
     }
     let mut rotated = [0.0; MAX_STRAIN_SQUARED];
     for row in 0..n {
-        let r = rotate_into_frame(&u, &v, |k, l| c[(k * D + l) * n + row]);
+        let r = rotate_into_frame(u, v, |k, l| c[(k * D + l) * n + row]);
         for i in 0..D {
             for j in 0..D {
                 rotated[(i * D + j) * n + row] = r[(i, j)];
@@ -282,22 +295,39 @@ pub fn project_isotropic_in_svd_frame<const D: usize>(
     if off_block > 1e-20 * total {
         return None;
     }
-    let (stretch, mut clamped) =
-        project_small(&Matrix::<D>::from_fn(|i, j| at(i * D + i, j * D + j)));
     let mut twist = [[0.0; 3]; 3];
     for (t, &(a, b)) in TWIST_PAIRS.iter().enumerate().take(D * (D - 1) / 2) {
         let (i, j) = (a * D + b, b * D + a);
-        let (block, c) = project_2x2(at(i, i), at(i, j), at(j, j));
+        twist[t] = [at(i, i), at(i, j), at(j, j)];
+    }
+    Some(SvdFrameBlocks {
+        stretch: Matrix::<D>::from_fn(|i, j| at(i * D + i, j * D + j)),
+        twist,
+    })
+}
+
+/// Projects the blocks of a stress derivative in the frame `u`, `v` onto
+/// the PSD cone, block by block (closed form for the `2 x 2` twist blocks):
+/// the projection of the whole `dP/dF`, kept in the frame.
+pub fn project_svd_frame_blocks<const D: usize>(
+    u: Matrix<D>,
+    v: Matrix<D>,
+    blocks: &SvdFrameBlocks<D>,
+) -> SvdFrameProjection<D> {
+    let (stretch, mut clamped) = project_small(&blocks.stretch);
+    let mut twist = [[0.0; 3]; 3];
+    for (t, &[p, q, r]) in blocks.twist.iter().enumerate().take(D * (D - 1) / 2) {
+        let (block, c) = project_2x2(p, q, r);
         clamped |= c;
         twist[t] = block;
     }
-    Some(SvdFrameProjection {
+    SvdFrameProjection {
         u,
         v,
         stretch,
         twist,
         clamped,
-    })
+    }
 }
 
 #[cfg(test)]
