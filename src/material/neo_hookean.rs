@@ -10,6 +10,13 @@ use crate::math::{
     Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector, cofactor, determinant,
 };
 
+/// `(F^{-T}, ln J)` from the cofactor, `F^{-T} = cof F / J` (one closed-form
+/// determinant, no elimination); `None` unless `J > 0`.
+fn inverse_transpose_and_log_det<const D: usize>(f: &Matrix<D>) -> Option<(Matrix<D>, f64)> {
+    let j = determinant(f);
+    (j > 0.0).then(|| (cofactor(f) / j, j.ln()))
+}
+
 /// Compressible Neo-Hookean (the form of Smith et al., log-barrier in `J`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NeoHookean {
@@ -29,7 +36,11 @@ impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
     }
 
     fn first_piola(&self, f: &Matrix<D>) -> Matrix<D> {
-        self.first_piola_and_derivative(f).0
+        let Some((h, ln_j)) = inverse_transpose_and_log_det(f) else {
+            return Matrix::<D>::from_element(f64::NAN);
+        };
+        let LameParameters { mu, lambda } = self.lame;
+        (f - h) * mu + h * (lambda * ln_j)
     }
 
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
@@ -40,14 +51,11 @@ impl<const D: usize> HyperelasticMaterial<D> for NeoHookean {
     /// `mu d_ik d_jl + (mu - lambda ln J) H_il H_kj + lambda H_kl H_ij`
     /// (the three terms of `dP` above with `dF = e_k e_l^T`).
     fn first_piola_and_derivative(&self, f: &Matrix<D>) -> (Matrix<D>, StressDerivative<D>) {
-        let j = determinant(f);
-        if !(j > 0.0) {
+        let Some((h, ln_j)) = inverse_transpose_and_log_det(f) else {
             let nan = Matrix::<D>::from_element(f64::NAN);
             return (nan, [[nan; D]; D]);
-        }
-        let h = cofactor(f) / j;
+        };
         let LameParameters { mu, lambda } = self.lame;
-        let ln_j = j.ln();
         let p = (f - h) * mu + h * (lambda * ln_j);
         let c = mu - lambda * ln_j;
         let dp = std::array::from_fn(|k| {
