@@ -22,6 +22,10 @@
 //! smaller eigenproblem (`9 x 9` instead of `12 x 12` per tetrahedron) and
 //! the same guarantee (a descent direction); the two projections differ
 //! (both are PSD, both equal the exact Hessian where `A` is PSD).
+//! In practice no `9 x 9` eigen-decomposition runs: a Cholesky test keeps a
+//! positive definite `A` as it is, and otherwise `A` is projected block by
+//! block in the SVD frame of `F`, with the blocks in closed form from the
+//! material (`crate::math::psd` writes this out) and `H_e` built there.
 //!
 //! Everything is fixed-size: `F`, `P`, `A` and the shape gradients live on
 //! the stack, and the results are written straight into the element's slots

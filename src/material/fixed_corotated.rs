@@ -17,7 +17,10 @@
 //! projection this material needs.
 
 use super::{HyperelasticMaterial, LameParameters, cofactor_differential, unit};
-use crate::math::{Matrix, StressDerivative, cofactor, determinant, rotation_svd};
+use crate::math::{
+    Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector, cofactor, determinant,
+    rotation_svd,
+};
 
 /// The smallest `|sigma_i + sigma_j|` used in `dR`.
 const MIN_SINGULAR_SUM: f64 = 1e-12;
@@ -29,24 +32,30 @@ pub struct FixedCorotated {
     pub lame: LameParameters,
 }
 
-impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
-    fn energy_density(&self, f: &Matrix<D>) -> f64 {
-        let LameParameters { mu, lambda } = self.lame;
-        let (_, sigma, _) = rotation_svd(f);
-        let j = determinant(f);
-        mu * sigma.iter().map(|s| (s - 1.0).powi(2)).sum::<f64>() + 0.5 * lambda * (j - 1.0).powi(2)
+/// `sigma_i + sigma_j` kept at least `MIN_SINGULAR_SUM` away from zero.
+fn guarded_sum(sum: f64) -> f64 {
+    if sum.abs() < MIN_SINGULAR_SUM {
+        MIN_SINGULAR_SUM.copysign(sum)
+    } else {
+        sum
     }
+}
 
-    fn first_piola(&self, f: &Matrix<D>) -> Matrix<D> {
+impl FixedCorotated {
+    /// `P = 2 mu (F - U V^T) + lambda (J - 1) cof F`.
+    fn stress<const D: usize>(&self, f: &Matrix<D>, u: &Matrix<D>, v: &Matrix<D>) -> Matrix<D> {
         let LameParameters { mu, lambda } = self.lame;
-        let (u, _, v) = rotation_svd(f);
         let j = determinant(f);
         (f - u * v.transpose()) * (2.0 * mu) + cofactor(f) * (lambda * (j - 1.0))
     }
 
-    fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
+    /// `dP/dF` (see the module documentation) from the SVD of `f`.
+    fn stress_derivative<const D: usize>(
+        &self,
+        f: &Matrix<D>,
+        (u, sigma, v): (&Matrix<D>, &Vector<D>, &Matrix<D>),
+    ) -> StressDerivative<D> {
         let LameParameters { mu, lambda } = self.lame;
-        let (u, sigma, v) = rotation_svd(f);
         let j = determinant(f);
         let cof = cofactor(f);
         std::array::from_fn(|k| {
@@ -57,13 +66,7 @@ impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
                     if i == n {
                         return 0.0;
                     }
-                    let sum = sigma[i] + sigma[n];
-                    let sum = if sum.abs() < MIN_SINGULAR_SUM {
-                        MIN_SINGULAR_SUM.copysign(sum)
-                    } else {
-                        sum
-                    };
-                    (m[(i, n)] - m[(n, i)]) / sum
+                    (m[(i, n)] - m[(n, i)]) / guarded_sum(sigma[i] + sigma[n])
                 });
                 let dr = u * w * v.transpose();
                 (df - dr) * (2.0 * mu)
@@ -71,6 +74,71 @@ impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
                     + cofactor_differential(f, &df) * (lambda * (j - 1.0))
             })
         })
+    }
+}
+
+impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
+    fn energy_density(&self, f: &Matrix<D>) -> f64 {
+        let LameParameters { mu, lambda } = self.lame;
+        let (_, sigma, _) = rotation_svd(f);
+        let j = determinant(f);
+        mu * sigma.iter().map(|s| (s - 1.0).powi(2)).sum::<f64>() + 0.5 * lambda * (j - 1.0).powi(2)
+    }
+
+    fn first_piola(&self, f: &Matrix<D>) -> Matrix<D> {
+        let (u, _, v) = rotation_svd(f);
+        self.stress(f, &u, &v)
+    }
+
+    fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
+        let (u, sigma, v) = rotation_svd(f);
+        self.stress_derivative(f, (&u, &sigma, &v))
+    }
+
+    /// One SVD for both.
+    fn first_piola_and_derivative(&self, f: &Matrix<D>) -> (Matrix<D>, StressDerivative<D>) {
+        let (u, sigma, v) = rotation_svd(f);
+        (
+            self.stress(f, &u, &v),
+            self.stress_derivative(f, (&u, &sigma, &v)),
+        )
+    }
+
+    /// With `g_a = dJ/dsigma_a`, `m_ab` the product of the singular values
+    /// other than `a` and `b` (the third in 3D, 1 in 2D) and
+    /// `s_ab = sigma_a + sigma_b` (kept away from zero as in `dR`): the
+    /// stretch block is `2 mu I + lambda g g^T + lambda (J - 1) d2J/dsigma2`
+    /// (`m_ab` off the diagonal) and the twist block of `(a, b)` is
+    /// `[[p, q], [q, p]]` with `p = 2 mu (1 - 1 / s_ab)` and
+    /// `q = 2 mu / s_ab - lambda (J - 1) m_ab` (`dR` contributes the
+    /// `1 / s_ab`).
+    fn stress_derivative_in_svd_frame(&self, sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
+        let LameParameters { mu, lambda } = self.lame;
+        let j: f64 = sigma.iter().product();
+        let others = |a: usize, b: usize| -> f64 {
+            (0..D)
+                .filter(|&c| c != a && c != b)
+                .map(|c| sigma[c])
+                .product()
+        };
+        let g = Vector::<D>::from_fn(|a, _| others(a, a));
+        let mut stretch = g * g.transpose() * lambda;
+        for a in 0..D {
+            for b in 0..D {
+                stretch[(a, b)] += if a == b {
+                    2.0 * mu
+                } else {
+                    lambda * (j - 1.0) * others(a, b)
+                };
+            }
+        }
+        let mut twist = [[0.0; 3]; 3];
+        for (block, &(a, b)) in twist.iter_mut().zip(&TWIST_PAIRS).take(D * (D - 1) / 2) {
+            let sum = guarded_sum(sigma[a] + sigma[b]);
+            let p = 2.0 * mu * (1.0 - 1.0 / sum);
+            *block = [p, 2.0 * mu / sum - lambda * (j - 1.0) * others(a, b), p];
+        }
+        Some(SvdFrameBlocks { stretch, twist })
     }
 
     fn forbids_inversion(&self) -> bool {

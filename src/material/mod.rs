@@ -56,8 +56,7 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     /// kernel's PSD projection. `None`, the default, has the kernel rotate
     /// `dP/dF` into the frame instead (the same blocks, at about a thousand
     /// multiplications in 3D); `tests/derivatives.rs` checks that the two
-    /// agree for every material that has them. Fixed corotated has none: its
-    /// twist blocks divide by `sigma_a + sigma_b`.
+    /// agree for every material that has them.
     fn stress_derivative_in_svd_frame(&self, _sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
         None
     }
