@@ -16,7 +16,10 @@
 //! Hessian's projection onto the PSD cone (in `energy::elasticity`) is the
 //! projection this material needs.
 
-use super::{HyperelasticMaterial, LameParameters, cofactor_differential, unit};
+use super::{
+    HyperelasticMaterial, LameParameters, cofactor_differential, determinant_in_singular_values,
+    unit,
+};
 use crate::math::{
     Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector, cofactor, determinant,
     rotation_svd,
@@ -104,39 +107,28 @@ impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
         )
     }
 
-    /// With `g_a = dJ/dsigma_a`, `m_ab` the product of the singular values
-    /// other than `a` and `b` (the third in 3D, 1 in 2D) and
-    /// `s_ab = sigma_a + sigma_b` (kept away from zero as in `dR`): the
-    /// stretch block is `2 mu I + lambda g g^T + lambda (J - 1) d2J/dsigma2`
-    /// (`m_ab` off the diagonal) and the twist block of `(a, b)` is
-    /// `[[p, q], [q, p]]` with `p = 2 mu (1 - 1 / s_ab)` and
-    /// `q = 2 mu / s_ab - lambda (J - 1) m_ab` (`dR` contributes the
+    /// With `g = dJ/dsigma`, `m_ab = d2J/dsigma_a dsigma_b` (the third
+    /// singular value in 3D, 1 in 2D) and `s_ab = sigma_a + sigma_b` (kept
+    /// away from zero as in `dR`): the stretch block is
+    /// `2 mu I + lambda g g^T + lambda (J - 1) d2J/dsigma2` and the twist
+    /// block of `(a, b)` is `[[p, q], [q, p]]` with `p = 2 mu (1 - 1 / s_ab)`
+    /// and `q = 2 mu / s_ab - lambda (J - 1) m_ab` (`dR` contributes the
     /// `1 / s_ab`).
     fn stress_derivative_in_svd_frame(&self, sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
         let LameParameters { mu, lambda } = self.lame;
-        let j: f64 = sigma.iter().product();
-        let others = |a: usize, b: usize| -> f64 {
-            (0..D)
-                .filter(|&c| c != a && c != b)
-                .map(|c| sigma[c])
-                .product()
-        };
-        let g = Vector::<D>::from_fn(|a, _| others(a, a));
-        let mut stretch = g * g.transpose() * lambda;
-        for a in 0..D {
-            for b in 0..D {
-                stretch[(a, b)] += if a == b {
-                    2.0 * mu
-                } else {
-                    lambda * (j - 1.0) * others(a, b)
-                };
-            }
-        }
+        let (j, g, j_hessian) = determinant_in_singular_values(sigma);
+        let stretch = Matrix::<D>::identity() * (2.0 * mu)
+            + g * g.transpose() * lambda
+            + j_hessian * (lambda * (j - 1.0));
         let mut twist = [[0.0; 3]; 3];
         for (block, &(a, b)) in twist.iter_mut().zip(&TWIST_PAIRS).take(D * (D - 1) / 2) {
             let sum = guarded_sum(sigma[a] + sigma[b]);
             let p = 2.0 * mu * (1.0 - 1.0 / sum);
-            *block = [p, 2.0 * mu / sum - lambda * (j - 1.0) * others(a, b), p];
+            *block = [
+                p,
+                2.0 * mu / sum - lambda * (j - 1.0) * j_hessian[(a, b)],
+                p,
+            ];
         }
         Some(SvdFrameBlocks { stretch, twist })
     }

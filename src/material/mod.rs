@@ -78,6 +78,26 @@ fn unit<const D: usize>(k: usize, l: usize) -> Matrix<D> {
     m
 }
 
+/// The derivatives of `J = prod_c sigma_c` in the singular values, for the
+/// materials' SVD-frame blocks: `J`, the gradient `g_a = prod_{c != a}
+/// sigma_c` and the Hessian, `prod_{c != a, b} sigma_c` off the diagonal (the
+/// third value in 3D, 1 in 2D) and 0 on it.
+fn determinant_in_singular_values<const D: usize>(
+    sigma: &Vector<D>,
+) -> (f64, Vector<D>, Matrix<D>) {
+    let product_without = |a: usize, b: usize| -> f64 {
+        (0..D)
+            .filter(|&c| c != a && c != b)
+            .map(|c| sigma[c])
+            .product()
+    };
+    (
+        sigma.iter().product(),
+        Vector::<D>::from_fn(|a, _| product_without(a, a)),
+        Matrix::<D>::from_fn(|a, b| if a == b { 0.0 } else { product_without(a, b) }),
+    )
+}
+
 /// The differential of the cofactor, `d(cof F)[dF]`: linear in `dF` (in 2D
 /// the cofactor itself is linear, `cof(dF)`; in 3D each entry is a 2 x 2
 /// minor, so its differential is the sum of two minors mixing `F` and `dF`).

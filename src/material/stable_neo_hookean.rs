@@ -17,7 +17,10 @@
 //! No logarithm and no division: the energy is finite for flat and inverted
 //! elements and pushes them back (the line search still keeps `J > 0`).
 
-use super::{HyperelasticMaterial, LameParameters, cofactor_differential, unit};
+use super::{
+    HyperelasticMaterial, LameParameters, cofactor_differential, determinant_in_singular_values,
+    unit,
+};
 use crate::math::{
     Matrix, StressDerivative, SvdFrameBlocks, TWIST_PAIRS, Vector, cofactor, determinant,
 };
@@ -63,33 +66,19 @@ impl<const D: usize> HyperelasticMaterial<D> for StableNeoHookean {
         })
     }
 
-    /// With `g_a = dJ/dsigma_a` (the product of the other singular values)
-    /// and `k = lambda' (J - 1) - mu`: the stretch block is
-    /// `mu I + lambda' g g^T + k d2J/dsigma2` (off the diagonal, the product
-    /// of the values other than `a` and `b`: the third one in 3D, 1 in 2D),
-    /// and the twist block of `(a, b)` is `[[mu, -k m], [-k m, mu]]` with
-    /// `m` that same product. Signed `sigma` (inverted elements) included.
+    /// With `g = dJ/dsigma` and `k = lambda' (J - 1) - mu`: the stretch
+    /// block is `mu I + lambda' g g^T + k d2J/dsigma2`, and the twist block
+    /// of `(a, b)` is `[[mu, -k m], [-k m, mu]]` with `m = d2J/dsigma_a
+    /// dsigma_b` (the third singular value in 3D, 1 in 2D). Signed `sigma`
+    /// (inverted elements) included.
     fn stress_derivative_in_svd_frame(&self, sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
         let (mu, lambda) = self.constants();
-        let j: f64 = sigma.iter().product();
+        let (j, g, j_hessian) = determinant_in_singular_values(sigma);
         let k = lambda * (j - 1.0) - mu;
-        // The product of the singular values other than `a` and `b`.
-        let others = |a: usize, b: usize| -> f64 {
-            (0..D)
-                .filter(|&c| c != a && c != b)
-                .map(|c| sigma[c])
-                .product()
-        };
-        let g = Vector::<D>::from_fn(|a, _| others(a, a));
-        let mut stretch = g * g.transpose() * lambda;
-        for a in 0..D {
-            for b in 0..D {
-                stretch[(a, b)] += if a == b { mu } else { k * others(a, b) };
-            }
-        }
+        let stretch = Matrix::<D>::identity() * mu + g * g.transpose() * lambda + j_hessian * k;
         let mut twist = [[0.0; 3]; 3];
         for (block, &(a, b)) in twist.iter_mut().zip(&TWIST_PAIRS).take(D * (D - 1) / 2) {
-            *block = [mu, -k * others(a, b), mu];
+            *block = [mu, -k * j_hessian[(a, b)], mu];
         }
         Some(SvdFrameBlocks { stretch, twist })
     }
