@@ -23,45 +23,39 @@ pub fn rotation_svd<const D: usize>(f: &Matrix<D>) -> (Matrix<D>, Vector<D>, Mat
         Vector::<D>::zeros(),
         Matrix::<D>::zeros(),
     );
-    macro_rules! decompose {
-        ($matrix:ty) => {{
-            // Singular values sorted, largest first.
-            let svd = <$matrix>::from_column_slice(f.as_slice()).svd(true, true);
-            let (Some(u_d), Some(v_t)) = (svd.u, svd.v_t) else {
-                unreachable!("both factors were requested")
-            };
-            u.as_mut_slice().copy_from_slice(u_d.as_slice());
-            v.as_mut_slice().copy_from_slice(v_t.transpose().as_slice());
-            sigma
-                .as_mut_slice()
-                .copy_from_slice(svd.singular_values.as_slice());
-        }};
-    }
     match D {
         1 => {
             u[(0, 0)] = 1.0;
             v[(0, 0)] = 1.0;
             sigma[0] = f[(0, 0)];
-            return (u, sigma, v);
         }
-        2 => decompose!(Matrix2<f64>),
+        2 => {
+            // Singular values sorted, largest first; U and V orthogonal.
+            let svd = Matrix2::from_column_slice(f.as_slice()).svd(true, true);
+            let (Some(u_2), Some(v_t)) = (svd.u, svd.v_t) else {
+                unreachable!("both factors were requested")
+            };
+            u.as_mut_slice().copy_from_slice(u_2.as_slice());
+            v.as_mut_slice().copy_from_slice(v_t.transpose().as_slice());
+            sigma
+                .as_mut_slice()
+                .copy_from_slice(svd.singular_values.as_slice());
+            // A reflection moves into the last singular value.
+            for q in [&mut u, &mut v] {
+                if determinant(q) < 0.0 {
+                    q.column_mut(D - 1).neg_mut();
+                    sigma[D - 1] = -sigma[D - 1];
+                }
+            }
+        }
         3 => {
-            let (u3, sigma3, v3) = jacobi_svd3(f.as_slice());
-            u.as_mut_slice().copy_from_slice(&u3);
-            v.as_mut_slice().copy_from_slice(&v3);
-            sigma.as_mut_slice().copy_from_slice(&sigma3);
             // Already rotations, with the sign of det F on the last value.
-            return (u, sigma, v);
+            let (u_3, sigma_3, v_3) = jacobi_svd3(f.as_slice());
+            u.as_mut_slice().copy_from_slice(&u_3);
+            v.as_mut_slice().copy_from_slice(&v_3);
+            sigma.as_mut_slice().copy_from_slice(&sigma_3);
         }
         _ => unimplemented!("SVD of a {D} x {D} matrix"),
-    }
-    if is_reflection(&u) {
-        u.column_mut(D - 1).neg_mut();
-        sigma[D - 1] = -sigma[D - 1];
-    }
-    if is_reflection(&v) {
-        v.column_mut(D - 1).neg_mut();
-        sigma[D - 1] = -sigma[D - 1];
     }
     (u, sigma, v)
 }
@@ -159,19 +153,6 @@ fn jacobi_svd3(f: &[f64]) -> (Flat3, [f64; 3], Flat3) {
         rotate_columns(&mut u, p, q, c, -sn);
     }
     (u, [b[0], b[4], b[8]], v)
-}
-
-/// Whether the orthogonal `q` has determinant -1 (closed form for 2 x 2 and 3 x 3).
-fn is_reflection<const D: usize>(q: &Matrix<D>) -> bool {
-    let det = match D {
-        2 => q[(0, 0)] * q[(1, 1)] - q[(0, 1)] * q[(1, 0)],
-        3 => {
-            let column = |j: usize| nalgebra::Vector3::new(q[(0, j)], q[(1, j)], q[(2, j)]);
-            column(0).cross(&column(1)).dot(&column(2))
-        }
-        _ => determinant(q),
-    };
-    det < 0.0
 }
 
 #[cfg(test)]
