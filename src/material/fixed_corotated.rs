@@ -44,23 +44,50 @@ fn guarded_sum(sum: f64) -> f64 {
     }
 }
 
+/// What `P` and `dP/dF` share at one `F`: its rotation-variant SVD, `J`
+/// and `cof F`, each computed once.
+struct Decomposition<const D: usize> {
+    u: Matrix<D>,
+    sigma: Vector<D>,
+    v: Matrix<D>,
+    j: f64,
+    cof: Matrix<D>,
+}
+
+impl<const D: usize> Decomposition<D> {
+    fn of(f: &Matrix<D>) -> Self {
+        let (u, sigma, v) = rotation_svd(f);
+        Self {
+            u,
+            sigma,
+            v,
+            j: determinant(f),
+            cof: cofactor(f),
+        }
+    }
+}
+
 impl FixedCorotated {
     /// `P = 2 mu (F - U V^T) + lambda (J - 1) cof F`.
-    fn stress<const D: usize>(&self, f: &Matrix<D>, u: &Matrix<D>, v: &Matrix<D>) -> Matrix<D> {
+    fn stress<const D: usize>(&self, f: &Matrix<D>, d: &Decomposition<D>) -> Matrix<D> {
         let LameParameters { mu, lambda } = self.lame;
-        let j = determinant(f);
-        (f - u * v.transpose()) * (2.0 * mu) + cofactor(f) * (lambda * (j - 1.0))
+        (f - d.u * d.v.transpose()) * (2.0 * mu) + d.cof * (lambda * (d.j - 1.0))
     }
 
-    /// `dP/dF` (see the module documentation) from the SVD of `f`.
+    /// `dP/dF` (see the module documentation).
     fn stress_derivative<const D: usize>(
         &self,
         f: &Matrix<D>,
-        (u, sigma, v): (&Matrix<D>, &Vector<D>, &Matrix<D>),
+        d: &Decomposition<D>,
     ) -> StressDerivative<D> {
         let LameParameters { mu, lambda } = self.lame;
-        let j = determinant(f);
-        let cof = cofactor(f);
+        let Decomposition {
+            u,
+            sigma,
+            v,
+            j,
+            cof,
+        } = d;
         std::array::from_fn(|k| {
             std::array::from_fn(|l| {
                 let df = unit::<D>(k, l);
@@ -89,22 +116,17 @@ impl<const D: usize> HyperelasticMaterial<D> for FixedCorotated {
     }
 
     fn first_piola(&self, f: &Matrix<D>) -> Matrix<D> {
-        let (u, _, v) = rotation_svd(f);
-        self.stress(f, &u, &v)
+        self.stress(f, &Decomposition::of(f))
     }
 
     fn first_piola_derivative(&self, f: &Matrix<D>) -> StressDerivative<D> {
-        let (u, sigma, v) = rotation_svd(f);
-        self.stress_derivative(f, (&u, &sigma, &v))
+        self.stress_derivative(f, &Decomposition::of(f))
     }
 
-    /// One SVD for both.
+    /// One SVD, one `J` and one `cof F` for both.
     fn first_piola_and_derivative(&self, f: &Matrix<D>) -> (Matrix<D>, StressDerivative<D>) {
-        let (u, sigma, v) = rotation_svd(f);
-        (
-            self.stress(f, &u, &v),
-            self.stress_derivative(f, (&u, &sigma, &v)),
-        )
+        let d = Decomposition::of(f);
+        (self.stress(f, &d), self.stress_derivative(f, &d))
     }
 
     /// With `g = dJ/dsigma`, `m_ab = d2J/dsigma_a dsigma_b` (the third
