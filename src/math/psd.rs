@@ -150,16 +150,16 @@ pub fn symmetrise_and_test_definite<const D: usize>(a: &mut [f64]) -> bool {
 }
 
 /// Projects the symmetric `2 x 2` `[[p, q], [q, r]]` onto the PSD cone in
-/// closed form; returns the projection and whether anything was clamped.
-fn project_2x2(p: f64, q: f64, r: f64) -> ([f64; 3], bool) {
+/// closed form, as `[p, q, r]`.
+fn project_2x2(p: f64, q: f64, r: f64) -> [f64; 3] {
     let mean = 0.5 * (p + r);
     let radius = (0.25 * (p - r) * (p - r) + q * q).sqrt();
     let (high, low) = (mean + radius, mean - radius);
     if low >= 0.0 {
-        return ([p, q, r], false);
+        return [p, q, r];
     }
     if high <= 0.0 {
-        return ([0.0; 3], true);
+        return [0.0; 3];
     }
     // Keep the eigenvalue `high` with its unit eigenvector `(c, s)`.
     let (c, s) = if p >= r {
@@ -171,7 +171,7 @@ fn project_2x2(p: f64, q: f64, r: f64) -> ([f64; 3], bool) {
         let n = x.hypot(y);
         (x / n, y / n)
     };
-    ([high * c * c, high * c * s, high * s * s], true)
+    [high * c * c, high * c * s, high * s * s]
 }
 
 /// The PSD projection of an isotropic material's stress derivative in the
@@ -191,8 +191,6 @@ pub struct SvdFrameProjection<const D: usize> {
     /// `[p, q, r]`, over `((a b), (b a))` for the pairs `a < b` in the order
     /// `(0 1), (0 2), (1 2)` (the first `D (D - 1) / 2` are used).
     pub twist: [[f64; 3]; 3],
-    /// Whether any eigenvalue had to be clamped.
-    pub clamped: bool,
 }
 
 /// The pairs `a < b` of strain indices, in the order of [`SvdFrameProjection::twist`].
@@ -207,27 +205,24 @@ fn rotate_into_frame<const D: usize>(
     u.transpose() * Matrix::<D>::from_fn(entry) * v
 }
 
-/// Projects a symmetric `D x D` matrix onto the PSD cone; returns it and
-/// whether anything was clamped.
-fn project_small<const D: usize>(m: &Matrix<D>) -> (Matrix<D>, bool) {
+/// Projects a symmetric `D x D` matrix onto the PSD cone.
+fn project_small<const D: usize>(m: &Matrix<D>) -> Matrix<D> {
     if m.cholesky().is_some() {
-        return (*m, false);
+        return *m;
     }
     let mut out = *m;
-    let clamped = match D {
-        1 => {
-            out[(0, 0)] = m[(0, 0)].max(0.0);
-            m[(0, 0)] < 0.0
-        }
+    match D {
+        1 => out[(0, 0)] = m[(0, 0)].max(0.0),
         2 => {
-            let ([p, q, r], clamped) = project_2x2(m[(0, 0)], m[(0, 1)], m[(1, 1)]);
+            let [p, q, r] = project_2x2(m[(0, 0)], m[(0, 1)], m[(1, 1)]);
             out.as_mut_slice().copy_from_slice(&[p, q, q, r]);
-            clamped
         }
-        3 => clamp_3(out.as_mut_slice()),
+        3 => {
+            clamp_3(out.as_mut_slice());
+        }
         _ => unimplemented!("projection of a {D} x {D} block"),
-    };
-    (out, clamped)
+    }
+    out
 }
 
 /// The blocks of an isotropic material's stress derivative in the SVD frame
@@ -314,19 +309,15 @@ pub fn project_svd_frame_blocks<const D: usize>(
     v: Matrix<D>,
     blocks: &SvdFrameBlocks<D>,
 ) -> SvdFrameProjection<D> {
-    let (stretch, mut clamped) = project_small(&blocks.stretch);
     let mut twist = [[0.0; 3]; 3];
     for (t, &[p, q, r]) in blocks.twist.iter().enumerate().take(D * (D - 1) / 2) {
-        let (block, c) = project_2x2(p, q, r);
-        clamped |= c;
-        twist[t] = block;
+        twist[t] = project_2x2(p, q, r);
     }
     SvdFrameProjection {
         u,
         v,
-        stretch,
+        stretch: project_small(&blocks.stretch),
         twist,
-        clamped,
     }
 }
 
