@@ -13,7 +13,8 @@
 //! fragment has the same depth and the `LessEqual` test passed them all, in
 //! draw order. Without it the image is the same (painter's order), and the
 //! software rasteriser saves clearing and testing four depth samples per
-//! pixel.
+//! pixel. In 3D each pipeline's depth test ([`DepthTest`]) lets the opaque
+//! layers be drawn nearest first and still give the painter's image.
 //! The uniform and vertex types are `#[repr(C)]` `bytemuck::Pod` and match
 //! the WGSL structs in `shaders/` field for field.
 
@@ -158,7 +159,7 @@ impl GpuResources {
             &device.create_shader_module(shader!("background")),
             &[],
             None,
-            false,
+            DepthTest::FarPlaneOnly,
         );
         let ground = settings.ground_height.map(|_| {
             if mesh.dimension == 2 {
@@ -167,7 +168,7 @@ impl GpuResources {
                     &device.create_shader_module(shader!("ground2d")),
                     &[],
                     Some(wgpu::BlendState::ALPHA_BLENDING),
-                    false,
+                    DepthTest::None,
                 )
             } else {
                 builder.build(
@@ -175,7 +176,7 @@ impl GpuResources {
                     &device.create_shader_module(shader!("ground3d")),
                     &[],
                     None,
-                    true,
+                    DepthTest::NearestDrawnBehindSurface,
                 )
             }
         });
@@ -188,7 +189,7 @@ impl GpuResources {
                 attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x3],
             })],
             None,
-            true,
+            DepthTest::Nearest,
         );
         let line = builder.build(
             "line pipeline",
@@ -199,7 +200,7 @@ impl GpuResources {
                 attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
             })],
             Some(wgpu::BlendState::ALPHA_BLENDING),
-            true,
+            DepthTest::Nearest,
         );
 
         let buffer = |label: &'static str, size: usize, usage: wgpu::BufferUsages| {
@@ -305,6 +306,48 @@ impl GpuResources {
     }
 }
 
+/// How a pipeline meets the depth target. Only 3D has one; in 2D every
+/// pipeline paints in draw order and this is ignored.
+///
+/// In 3D the opaque layers are drawn nearest first — surface, ground,
+/// background — so that a software rasteriser shades and writes each sample
+/// about once: the early depth test rejects the ground behind the body and
+/// the background behind either. The tests are chosen so that the image is
+/// the one painting background, ground and surface in that order would give.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum DepthTest {
+    /// No test, no write (2D layers).
+    None,
+    /// Tested `LessEqual` and written: on a tie the later draw wins.
+    Nearest,
+    /// Tested `Less` and written, for the ground drawn after the surface: on
+    /// a tie the surface keeps the sample, as when it was drawn over the
+    /// ground.
+    NearestDrawnBehindSurface,
+    /// Tested `LessEqual` at the far plane, not written: the background,
+    /// drawn after every opaque layer, fills only samples none of them
+    /// covered (still at the cleared depth 1).
+    FarPlaneOnly,
+}
+
+impl DepthTest {
+    fn state(self) -> wgpu::DepthStencilState {
+        let (write, compare) = match self {
+            DepthTest::None => (false, wgpu::CompareFunction::Always),
+            DepthTest::Nearest => (true, wgpu::CompareFunction::LessEqual),
+            DepthTest::NearestDrawnBehindSurface => (true, wgpu::CompareFunction::Less),
+            DepthTest::FarPlaneOnly => (false, wgpu::CompareFunction::LessEqual),
+        };
+        wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }
+    }
+}
+
 struct PipelineBuilder<'a> {
     device: &'a wgpu::Device,
     layout: &'a wgpu::PipelineLayout,
@@ -314,16 +357,15 @@ struct PipelineBuilder<'a> {
 }
 
 impl PipelineBuilder<'_> {
-    /// A triangle-list pipeline. Depth-tested ones test `LessEqual` and
-    /// write depth; the others (background, 2D ground) are painted in order.
-    /// Without a depth target (2D) every pipeline paints in order.
+    /// A triangle-list pipeline meeting the depth target (3D) as `depth`
+    /// says. Without a depth target (2D) every pipeline paints in order.
     fn build(
         &self,
         label: &'static str,
         module: &wgpu::ShaderModule,
         buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
         blend: Option<wgpu::BlendState>,
-        depth_tested: bool,
+        depth: DepthTest,
     ) -> wgpu::RenderPipeline {
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -340,17 +382,7 @@ impl PipelineBuilder<'_> {
                     cull_mode: None,
                     ..Default::default()
                 },
-                depth_stencil: self.depth.then_some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(depth_tested),
-                    depth_compare: Some(if depth_tested {
-                        wgpu::CompareFunction::LessEqual
-                    } else {
-                        wgpu::CompareFunction::Always
-                    }),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: self.depth.then(|| depth.state()),
                 multisample: wgpu::MultisampleState {
                     count: self.samples,
                     ..Default::default()

@@ -5,8 +5,12 @@
 //! run's appearance ([`Look`]: camera, colours, ground, shadow, edges,
 //! legend) and the GPU objects ([`GpuResources`]) are all fixed then. Each
 //! frame then reads as one straight line: check it, fill the vertex and
-//! uniform buffers, encode the pass (background, ground, surface, edges) into
-//! a 4x MSAA target (with a depth target in 3D) resolved to `Rgba8UnormSrgb`,
+//! uniform buffers, encode the pass into a 4x MSAA target (with a depth
+//! target in 3D) resolved to `Rgba8UnormSrgb` — in 2D painted back to front
+//! (background, ground, surface, edges), in 3D the opaque layers nearest
+//! first (surface, ground, background, then edges) so that hidden samples
+//! are rejected before they are shaded, with depth tests that give the same
+//! image (see `DepthTest`) —
 //! submit and wait; copy the resolved texture to a buffer with rows padded
 //! to `COPY_BYTES_PER_ROW_ALIGNMENT`, map it, wait, strip the padding; then
 //! stamp the legend, drawn once on the CPU. (Two submissions instead of one
@@ -170,25 +174,44 @@ impl Renderer {
             });
             pass.set_bind_group(0, &r.bind_group, &[]);
             // A plain background is the clear colour already.
-            if globals.sky_top != globals.sky_bottom {
-                pass.set_pipeline(&r.background);
-                pass.draw(0..3, 0..1);
-            }
-            if let Some(ground) = &r.ground {
-                pass.set_pipeline(ground);
-                pass.draw(0..6, 0..1);
-            }
+            let background = (globals.sky_top != globals.sky_bottom).then_some(&r.background);
+            let draw_layer = |pass: &mut wgpu::RenderPass<'_>, pipeline, vertices| {
+                pass.set_pipeline(pipeline);
+                pass.draw(0..vertices, 0..1);
+            };
+            let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
+                if !self.surface_scratch.is_empty() {
+                    pass.set_pipeline(&r.surface);
+                    pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
+                    pass.draw(0..self.surface_scratch.len() as u32, 0..1);
+                }
+            };
             // Instance 0 is the 2D ground line when there is one: behind the body.
             let ground_lines = self.look.ground_lines();
-            if ground_lines > 0 {
-                pass.set_pipeline(&r.line);
-                pass.set_vertex_buffer(0, r.line_instances.slice(..));
-                pass.draw(0..6, 0..ground_lines);
-            }
-            if !self.surface_scratch.is_empty() {
-                pass.set_pipeline(&r.surface);
-                pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
-                pass.draw(0..self.surface_scratch.len() as u32, 0..1);
+            if r.depth_view.is_some() {
+                // 3D: opaque layers nearest first, so hidden samples are
+                // rejected before shading (see `DepthTest`).
+                draw_surface(&mut pass);
+                if let Some(ground) = &r.ground {
+                    draw_layer(&mut pass, ground, 6);
+                }
+                if let Some(background) = background {
+                    draw_layer(&mut pass, background, 3);
+                }
+            } else {
+                // 2D: painted back to front.
+                if let Some(background) = background {
+                    draw_layer(&mut pass, background, 3);
+                }
+                if let Some(ground) = &r.ground {
+                    draw_layer(&mut pass, ground, 6);
+                }
+                if ground_lines > 0 {
+                    pass.set_pipeline(&r.line);
+                    pass.set_vertex_buffer(0, r.line_instances.slice(..));
+                    pass.draw(0..6, 0..ground_lines);
+                }
+                draw_surface(&mut pass);
             }
             if self.line_scratch.len() as u32 > ground_lines {
                 pass.set_pipeline(&r.line);
