@@ -22,6 +22,18 @@ struct Globals {
     // The two ground colours (fill and hatching in 2D, checker in 3D), linear RGB.
     ground_light: vec4<f32>,
     ground_dark: vec4<f32>,
+    // 2D body tile (src/render/body_tile.rs): clip-space scale (xy) and
+    // offset (zw) from the whole image to the tile's target; (1, 1, 0, 0)
+    // when the whole image is drawn.
+    tile: vec4<f32>,
+    // The tile's top-left pixel in the whole image (xy).
+    tile_origin: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> g: Globals;
+
+// A clip-space position of the whole image moved into the tile's target
+// (unchanged, bit for bit, when the whole image is drawn).
+fn to_tile(clip: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(clip.xy * g.tile.xy + g.tile.zw * clip.w, clip.zw);
+}

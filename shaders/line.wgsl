@@ -50,7 +50,7 @@ fn vs_main(@builtin(vertex_index) index: u32, line: LineIn) -> VsOut {
     }
     let offset_px = normal * (corner.y * half_width) + direction * cap;
     var out: VsOut;
-    out.clip = vec4<f32>(base.xy + offset_px / half_size * base.w, base.zw);
+    out.clip = to_tile(vec4<f32>(base.xy + offset_px / half_size * base.w, base.zw));
     out.colour = line.colour;
     return out;
 }

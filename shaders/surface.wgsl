@@ -19,7 +19,7 @@ struct VsOut {
 @vertex
 fn vs_main(in: VertexIn) -> VsOut {
     var out: VsOut;
-    out.clip = g.view_proj * vec4<f32>(in.position, 1.0);
+    out.clip = to_tile(g.view_proj * vec4<f32>(in.position, 1.0));
     out.world = in.position;
     out.normal = in.normal;
     out.colour = in.colour;

@@ -305,3 +305,81 @@ fn mismatched_frames_are_typed_errors() {
         .unwrap();
     assert!(error.to_string().contains("vertex 9"), "{error}");
 }
+
+/// A 2D frame is drawn as a tile around the body pasted into the run's fixed
+/// backdrop: it must show what drawing the whole image shows, wherever the
+/// body is — resting on the ground line, partly outside the image, entirely
+/// outside, with edges and the legend.
+#[test]
+fn a_2d_body_tile_shows_what_the_whole_image_shows() {
+    use elasto::math::Vector2;
+    use elasto::mesh::Mesh;
+    let mesh = Mesh::<2>::axis_aligned_box(Vector2::zeros(), Vector2::new(1.0, 0.5), [8, 4])
+        .expect("a valid box");
+    let render_mesh = RenderMesh::from_mesh(&mesh);
+    // Moved by (dx, dy), sheared, with a field varying across the body.
+    let frame = |dx: f64, dy: f64, shear: f64| {
+        let positions: Vec<_> = mesh
+            .rest_positions()
+            .iter()
+            .map(|p| Vector2::new(p[0] + dx + shear * p[1], p[1] + dy))
+            .collect();
+        let values: Vec<f64> = (0..mesh.element_count())
+            .map(|e| mesh.rest_positions()[mesh.simplex(e)[0]][0] + shear)
+            .collect();
+        RenderFrame::from_positions(&positions, &values)
+    };
+    let frames = [
+        frame(0.0, 0.6, 0.0),   // in the air
+        frame(-0.3, 0.0, 0.2),  // resting on the ground line (y = -0.25)
+        frame(-2.2, 0.3, -0.1), // partly outside on the left
+        frame(0.4, -0.1, 0.3),  // overlapping the ground
+        frame(9.0, 9.0, 0.0),   // entirely outside
+    ];
+    let settings = RenderSettings {
+        width: 480,
+        height: 270,
+        camera: Camera::Orthographic {
+            center: [0.0, 0.3],
+            height: 2.0,
+        },
+        colouring: Colouring::Scalar {
+            range: Some([-0.6, 0.8]),
+            label: "value",
+        },
+        draw_edges: true,
+        draw_legend: true,
+        ground_height: Some(-0.25),
+        ..RenderSettings::default()
+    };
+    let Some(mut renderer) = renderer_or_skip(&settings, &render_mesh, &frames) else {
+        return;
+    };
+    for (k, frame) in frames.iter().enumerate() {
+        let tiled = renderer.render(frame).unwrap();
+        let whole = renderer.render_whole_image(frame).unwrap();
+        assert_eq!(tiled.dimensions(), whole.dimensions());
+        // The tile's vertices go through one more multiply-add, so a sample
+        // lying exactly on an edge may fall the other way: allow a few
+        // single pixels, nothing more.
+        let differing: Vec<(u32, u32, u8)> = tiled
+            .enumerate_pixels()
+            .zip(whole.pixels())
+            .filter_map(|((x, y, a), b)| {
+                let d =
+                    a.0.iter()
+                        .zip(&b.0)
+                        .map(|(p, q)| p.abs_diff(*q))
+                        .max()
+                        .unwrap();
+                (d > 1).then_some((x, y, d))
+            })
+            .collect();
+        assert!(
+            differing.len() <= 3,
+            "frame {k}: {} pixels differ between the tile and the whole image: {:?}",
+            differing.len(),
+            &differing[..differing.len().min(20)]
+        );
+    }
+}

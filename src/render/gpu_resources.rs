@@ -24,7 +24,7 @@ use bytemuck::{Pod, Zeroable};
 
 /// Format of the colour targets: shaders write linear light, the target
 /// encodes sRGB.
-const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(super) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Per-run uniforms (see `Globals` in the shaders). Every field is a 16-byte
@@ -44,6 +44,13 @@ pub(super) struct Globals {
     pub sky_bottom: [f32; 4],
     pub ground_light: [f32; 4],
     pub ground_dark: [f32; 4],
+    pub tile: [f32; 4],
+    pub tile_origin: [f32; 4],
+}
+
+impl Globals {
+    /// `tile` for drawing the whole image: clip positions unchanged.
+    pub const WHOLE_IMAGE: [f32; 4] = [1.0, 1.0, 0.0, 0.0];
 }
 
 /// One corner of a filled triangle.
@@ -88,6 +95,9 @@ pub(super) struct GpuResources {
     pub ground: Option<wgpu::RenderPipeline>,
     pub surface: wgpu::RenderPipeline,
     pub line: wgpu::RenderPipeline,
+    /// 2D: the pipeline copying the backdrop texture (bind group 1, laid out
+    /// as the layout here) into a body tile.
+    pub backdrop: Option<(wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
     pub surface_vertices: wgpu::Buffer,
     pub line_instances: wgpu::Buffer,
     /// Multisampled colour target (`None` without MSAA).
@@ -203,6 +213,40 @@ impl GpuResources {
             DepthTest::Nearest,
         );
 
+        let backdrop = (mesh.dimension == 2).then(|| {
+            let texture_layout =
+                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("backdrop bind group layout"),
+                    entries: &[wgpu::BindGroupLayoutEntry {
+                        binding: 0,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                            multisampled: false,
+                        },
+                        count: None,
+                    }],
+                });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("backdrop pipeline layout"),
+                bind_group_layouts: &[Some(&bind_group_layout), Some(&texture_layout)],
+                immediate_size: 0,
+            });
+            let pipeline = PipelineBuilder {
+                layout: &layout,
+                ..builder
+            }
+            .build(
+                "backdrop pipeline",
+                &device.create_shader_module(shader!("backdrop")),
+                &[],
+                None,
+                DepthTest::None,
+            );
+            (pipeline, texture_layout)
+        });
+
         let buffer = |label: &'static str, size: usize, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -294,6 +338,7 @@ impl GpuResources {
             ground,
             surface,
             line,
+            backdrop,
             surface_vertices,
             line_instances,
             msaa_view,
@@ -409,7 +454,7 @@ mod tests {
 
     #[test]
     fn globals_layout_has_no_padding() {
-        assert_eq!(std::mem::size_of::<Globals>(), 64 + 11 * 16);
+        assert_eq!(std::mem::size_of::<Globals>(), 64 + 13 * 16);
         assert_eq!(std::mem::size_of::<LineInstance>(), 44);
         assert_eq!(std::mem::size_of::<SurfaceVertex>(), 36);
     }

@@ -256,6 +256,8 @@ fn base_globals(
             sky_bottom: vec4(background),
             ground_light: linear([0.86, 0.845, 0.82]),
             ground_dark: linear([0.42, 0.41, 0.39]),
+            tile: Globals::WHOLE_IMAGE,
+            tile_origin: [0.0; 4],
         }
     } else {
         let light = Vector3::new(-0.45, 1.0, 0.65).normalize();
@@ -276,6 +278,8 @@ fn base_globals(
             sky_bottom: vec4(background.map(|c| c * 0.80)),
             ground_light: linear([0.85, 0.85, 0.86]),
             ground_dark: linear([0.78, 0.78, 0.80]),
+            tile: Globals::WHOLE_IMAGE,
+            tile_origin: [0.0; 4],
         }
     }
 }

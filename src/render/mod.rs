@@ -8,7 +8,10 @@
 //! The GPU is whatever wgpu finds: a hardware adapter when present, otherwise
 //! a software one (on a GPU-less Linux machine, the GL backend over Mesa
 //! llvmpipe through EGL). `WGPU_BACKEND` (e.g. `gl`, `vulkan`) restricts the
-//! backends tried. Images are rendered with 4x MSAA into an sRGB target.
+//! backends tried. Images are rendered with 4x MSAA into an sRGB target; a
+//! 2D frame draws only the tile around its body over the run's fixed
+//! backdrop (`body_tile`), so that a software rasteriser does not clear and
+//! resolve the whole image's samples for every frame.
 //!
 //! Colours: element scalars go through [`viridis`] over one range for the
 //! whole run (automatic: min/max over all frames), so colours never flicker;
@@ -18,6 +21,7 @@
 //! range (or flat colour) frames are rendered and written as they are
 //! simulated.
 
+mod body_tile;
 mod camera;
 mod colormap;
 mod export;

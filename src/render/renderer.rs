@@ -3,31 +3,40 @@
 //!
 //! A renderer is made once per run: the input checks ([`FrameShape`]), the
 //! run's appearance ([`Look`]: camera, colours, ground, shadow, edges,
-//! legend) and the GPU objects ([`GpuResources`]) are all fixed then. Each
-//! frame then reads as one straight line: check it, fill the vertex and
-//! uniform buffers, encode the pass into a 4x MSAA target (with a depth
-//! target in 3D) resolved to `Rgba8UnormSrgb` — in 2D painted back to front
-//! (background, ground, surface, edges), in 3D the opaque layers nearest
-//! first (surface, ground, background, then edges) so that hidden samples
-//! are rejected before they are shaded, with depth tests that give the same
-//! image (see `DepthTest`) —
-//! submit and wait; copy the resolved texture to a buffer with rows padded
-//! to `COPY_BYTES_PER_ROW_ALIGNMENT`, map it, wait, strip the padding; then
-//! stamp the legend, drawn once on the CPU. (Two submissions instead of one
-//! cost next to nothing and let [`Renderer::render_timed`] time drawing and
-//! readback apart.)
+//! legend) and the GPU objects ([`GpuResources`]) are all fixed then, and in
+//! 2D the backdrop (the whole image without the body, see [`BodyTiles`]).
+//! Each frame then reads as one straight line: check it, fill the vertex and
+//! uniform buffers, draw, read back, stamp the legend (drawn once on the
+//! CPU).
+//!
+//! - **3D** (and [`Renderer::render_whole_image`]): one pass over the whole
+//!   image into a 4x MSAA target with a depth target, resolved to
+//!   `Rgba8UnormSrgb`; the opaque layers nearest first (surface, ground,
+//!   background, then edges), so that hidden samples are rejected before
+//!   they are shaded, with depth tests that give the painter's image (see
+//!   `DepthTest`). The resolved texture is copied to a buffer with rows
+//!   padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, mapped, and the padding
+//!   stripped ([`read_texture`]).
+//! - **2D**: the same pass, painted back to front (background, ground,
+//!   surface, edges), but only over the pixel rectangle around the body, in
+//!   a small target that starts from the backdrop; the tile read back is
+//!   pasted into a copy of the backdrop.
+//!
+//! (Drawing and readback are two submissions instead of one: that costs next
+//! to nothing and lets [`Renderer::render_timed`] time them apart.)
 //!
 //! Colours are computed on the CPU (viridis in sRGB, converted to linear);
 //! shaders work in linear light and the sRGB target encodes on write, so an
 //! unlit 2D pixel reads back as the colour map's own sRGB value.
 
+use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
 use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex};
 use super::look::Look;
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
-use nalgebra::Vector3;
+use nalgebra::{Matrix4, Vector3};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -53,6 +62,8 @@ pub struct Renderer {
     surface_scratch: Vec<SurfaceVertex>,
     line_scratch: Vec<LineInstance>,
     colour_scratch: Vec<[f32; 3]>,
+    /// 2D: the fixed backdrop, and the tiles each frame's body is drawn in.
+    tiles: Option<BodyTiles>,
 }
 
 impl Renderer {
@@ -79,7 +90,7 @@ impl Renderer {
         }
         let look = Look::new(settings, mesh, frames)?;
         let resources = GpuResources::new(&gpu, settings, mesh)?;
-        Ok(Renderer {
+        let mut renderer = Renderer {
             gpu,
             settings: settings.clone(),
             mesh: mesh.clone(),
@@ -89,7 +100,17 @@ impl Renderer {
             surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
             line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
             colour_scratch: Vec::with_capacity(mesh.element_count),
-        })
+            tiles: None,
+        };
+        if mesh.dimension == 2 {
+            let backdrop = renderer.draw_backdrop()?;
+            renderer.tiles = Some(BodyTiles::new(
+                &renderer.gpu,
+                &renderer.resources,
+                backdrop,
+            )?);
+        }
+        Ok(renderer)
     }
 
     /// The adapter this renderer draws with (name, backend, driver, type).
@@ -112,6 +133,19 @@ impl Renderer {
         self.render_timed(frame).map(|(image, _)| image)
     }
 
+    /// Draws one frame as one whole image. [`Renderer::render`] draws a 2D
+    /// frame as its body's tile over the run's fixed backdrop instead (see
+    /// `body_tile`); this is the reference the tiles are checked against,
+    /// and slower. In 3D both are the same.
+    pub fn render_whole_image(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
+        self.shape.check(frame)?;
+        self.fill_buffers(frame);
+        self.draw_whole_image(true)?;
+        let mut image = self.read_whole_image()?;
+        self.look.draw_overlay(&mut image);
+        Ok(image)
+    }
+
     /// Draws one frame and says how long each stage took (for benchmarks).
     pub fn render_timed(
         &mut self,
@@ -120,10 +154,66 @@ impl Renderer {
         let start = Instant::now();
         self.shape.check(frame)?;
         self.fill_buffers(frame);
+        let (mut image, drawn) = match &mut self.tiles {
+            Some(tiles) => {
+                let (width, height) = (self.settings.width, self.settings.height);
+                let ground_lines = self.look.ground_lines();
+                let globals = self.look.globals();
+                let rect = body_rect(
+                    &Matrix4::from(globals.view_proj),
+                    &self.surface_scratch,
+                    &self.line_scratch[ground_lines as usize..],
+                    width,
+                    height,
+                );
+                let inputs = TileInputs {
+                    resources: &self.resources,
+                    globals,
+                    surface_vertices: self.surface_scratch.len() as u32,
+                    body_lines: ground_lines..self.line_scratch.len() as u32,
+                };
+                let rect = tiles.draw(&self.gpu, &inputs, rect)?;
+                let drawn = Instant::now();
+                (tiles.read_back(&self.gpu, rect)?, drawn)
+            }
+            None => {
+                self.draw_whole_image(true)?;
+                let drawn = Instant::now();
+                (self.read_whole_image()?, drawn)
+            }
+        };
+        let read = Instant::now();
+        self.look.draw_overlay(&mut image);
+        let timings = FrameTimings {
+            draw: drawn - start,
+            readback: read - drawn,
+            overlay: read.elapsed(),
+        };
+        Ok((image, timings))
+    }
+
+    /// The 2D backdrop: the whole image without the body (no legend).
+    fn draw_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
+        self.surface_scratch.clear();
+        self.look.lines(&[], &[], &mut self.line_scratch);
+        let queue = &self.gpu.queue;
+        let r = &self.resources;
+        queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
+        queue.write_buffer(
+            &r.line_instances,
+            0,
+            bytemuck::cast_slice(&self.line_scratch),
+        );
+        self.draw_whole_image(false)?;
+        self.read_whole_image()
+    }
+
+    /// Draws the whole image from the filled buffers (without the body's
+    /// surface and edges unless `with_body`) and waits for it.
+    fn draw_whole_image(&self, with_body: bool) -> Result<(), RenderError> {
         let device = &self.gpu.device;
         let queue = &self.gpu.queue;
         let r = &self.resources;
-        let (width, height) = (self.settings.width, self.settings.height);
 
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -180,7 +270,7 @@ impl Renderer {
                 pass.draw(0..vertices, 0..1);
             };
             let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
-                if !self.surface_scratch.is_empty() {
+                if with_body && !self.surface_scratch.is_empty() {
                     pass.set_pipeline(&r.surface);
                     pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
                     pass.draw(0..self.surface_scratch.len() as u32, 0..1);
@@ -213,7 +303,7 @@ impl Renderer {
                 }
                 draw_surface(&mut pass);
             }
-            if self.line_scratch.len() as u32 > ground_lines {
+            if with_body && self.line_scratch.len() as u32 > ground_lines {
                 pass.set_pipeline(&r.line);
                 pass.set_vertex_buffer(0, r.line_instances.slice(..));
                 pass.draw(0..6, ground_lines..self.line_scratch.len() as u32);
@@ -222,81 +312,24 @@ impl Renderer {
         queue.submit([encoder.finish()]);
         check_scope(out_of_memory, "drawing a frame")?;
         check_scope(validation, "drawing a frame")?;
-        wait(device, "drawing a frame")?;
-        let drawn = Instant::now();
+        wait(device, "drawing a frame")
+    }
 
-        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("readback encoder"),
-        });
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &r.resolved,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &r.readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(r.padded_bytes_per_row),
-                    rows_per_image: Some(height),
-                },
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
-        queue.submit([encoder.finish()]);
-        check_scope(validation, "copying a frame")?;
-
-        let (sender, receiver) = std::sync::mpsc::channel();
-        r.readback
-            .map_async(wgpu::MapMode::Read, .., move |result| {
-                let _ = sender.send(result);
-            });
-        wait(device, "reading a frame back")?;
-        receiver
-            .recv()
-            .map_err(|_| RenderError::Gpu {
-                during: "reading a frame back",
-                message: "the map callback never ran".into(),
-            })?
-            .map_err(|e| RenderError::Gpu {
-                during: "reading a frame back",
-                message: e.to_string(),
-            })?;
+    /// Reads the whole image just drawn back from the GPU.
+    fn read_whole_image(&self) -> Result<RgbaImage, RenderError> {
+        let (width, height) = (self.settings.width, self.settings.height);
+        let r = &self.resources;
         let mut pixels = Vec::with_capacity((width * height * 4) as usize);
-        {
-            let mapped = r
-                .readback
-                .get_mapped_range(..)
-                .map_err(|e| RenderError::Gpu {
-                    during: "reading a frame back",
-                    message: e.to_string(),
-                })?;
-            let row_bytes = (width * 4) as usize;
-            for row in mapped
-                .chunks_exact(r.padded_bytes_per_row as usize)
-                .take(height as usize)
-            {
-                pixels.extend_from_slice(&row[..row_bytes]);
-            }
-        }
-        r.readback.unmap();
-        let mut image = RgbaImage::from_raw(width, height, pixels)
-            .expect("the readback holds width x height pixels");
-        let read = Instant::now();
-        self.look.draw_overlay(&mut image);
-        let timings = FrameTimings {
-            draw: drawn - start,
-            readback: read - drawn,
-            overlay: read.elapsed(),
-        };
-        Ok((image, timings))
+        read_texture(
+            &self.gpu,
+            &r.resolved,
+            &r.readback,
+            r.padded_bytes_per_row,
+            (width, height),
+            |_, row| pixels.extend_from_slice(row),
+        )?;
+        Ok(RgbaImage::from_raw(width, height, pixels)
+            .expect("the readback holds width x height pixels"))
     }
 
     /// Builds this frame's triangles, edges and uniforms and uploads them.
@@ -341,4 +374,73 @@ impl Renderer {
             bytemuck::cast_slice(&self.line_scratch),
         );
     }
+}
+
+/// Copies the top-left `size` pixels of `texture` into `buffer` (rows
+/// `padded_bytes_per_row` apart), maps it, waits, and hands each row's
+/// pixels, without the padding, to `row` with its index.
+pub(super) fn read_texture(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    buffer: &wgpu::Buffer,
+    padded_bytes_per_row: u32,
+    size: (u32, u32),
+    mut row: impl FnMut(u32, &[u8]),
+) -> Result<(), RenderError> {
+    let device = &gpu.device;
+    let (width, height) = size;
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("readback encoder"),
+    });
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded_bytes_per_row),
+                rows_per_image: Some(height),
+            },
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+    gpu.queue.submit([encoder.finish()]);
+    check_scope(validation, "copying a frame")?;
+
+    let (sender, receiver) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+        let _ = sender.send(result);
+    });
+    wait(device, "reading a frame back")?;
+    receiver
+        .recv()
+        .map_err(|_| RenderError::Gpu {
+            during: "reading a frame back",
+            message: "the map callback never ran".into(),
+        })?
+        .map_err(|e| RenderError::Gpu {
+            during: "reading a frame back",
+            message: e.to_string(),
+        })?;
+    {
+        let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Gpu {
+            during: "reading a frame back",
+            message: e.to_string(),
+        })?;
+        let row_bytes = (width * 4) as usize;
+        for (index, padded) in mapped
+            .chunks_exact(padded_bytes_per_row as usize)
+            .take(height as usize)
+            .enumerate()
+        {
+            row(index as u32, &padded[..row_bytes]);
+        }
+    }
+    buffer.unmap();
+    Ok(())
 }
