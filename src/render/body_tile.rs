@@ -29,7 +29,9 @@
 
 use super::RenderError;
 use super::gpu::{Gpu, check_scope, wait};
-use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex};
+use super::gpu_resources::{
+    COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment,
+};
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
 
@@ -306,26 +308,14 @@ impl BodyTiles {
             label: Some("tile encoder"),
         });
         {
-            let (view, resolve_target) = match &target.msaa_view {
-                Some(msaa) => (msaa, Some(&target.resolved_view)),
-                None => (&target.resolved_view, None),
-            };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("tile pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target,
-                    ops: wgpu::Operations {
-                        // The backdrop layer covers the whole target.
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: if resolve_target.is_some() {
-                            wgpu::StoreOp::Discard
-                        } else {
-                            wgpu::StoreOp::Store
-                        },
-                    },
-                })],
+                // The backdrop layer covers the whole target: the clear colour never shows.
+                color_attachments: &[Some(resolved_colour_attachment(
+                    target.msaa_view.as_ref(),
+                    &target.resolved_view,
+                    wgpu::Color::BLACK,
+                ))],
                 depth_stencil_attachment: None,
                 timestamp_writes: None,
                 occlusion_query_set: None,

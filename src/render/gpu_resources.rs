@@ -351,6 +351,29 @@ impl GpuResources {
     }
 }
 
+/// The colour attachment of a pass cleared to `clear`: into `msaa` resolved
+/// into `resolved`, or without MSAA straight into `resolved`. Only the
+/// resolved image is read, so the samples are not stored.
+pub(super) fn resolved_colour_attachment<'a>(
+    msaa: Option<&'a wgpu::TextureView>,
+    resolved: &'a wgpu::TextureView,
+    clear: wgpu::Color,
+) -> wgpu::RenderPassColorAttachment<'a> {
+    let (view, resolve_target, store) = match msaa {
+        Some(msaa) => (msaa, Some(resolved), wgpu::StoreOp::Discard),
+        None => (resolved, None, wgpu::StoreOp::Store),
+    };
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(clear),
+            store,
+        },
+    }
+}
+
 /// How a pipeline meets the depth target. Only 3D has one; in 2D every
 /// pipeline paints in draw order and this is ignored.
 ///

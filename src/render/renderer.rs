@@ -32,7 +32,7 @@
 use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex};
+use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment};
 use super::look::Look;
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
@@ -196,14 +196,7 @@ impl Renderer {
     fn draw_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
         self.surface_scratch.clear();
         self.look.lines(&[], &[], &mut self.line_scratch);
-        let queue = &self.gpu.queue;
-        let r = &self.resources;
-        queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
-        queue.write_buffer(
-            &r.line_instances,
-            0,
-            bytemuck::cast_slice(&self.line_scratch),
-        );
+        self.upload_buffers();
         self.draw_whole_image(false)?;
         self.read_whole_image()
     }
@@ -221,33 +214,21 @@ impl Renderer {
             label: Some("frame encoder"),
         });
         {
-            let (view, resolve_target) = match &r.msaa_view {
-                Some(msaa) => (msaa, Some(&r.resolved_view)),
-                None => (&r.resolved_view, None),
-            };
             let globals = self.look.globals();
             let sky = globals.sky_top;
+            let clear = wgpu::Color {
+                r: sky[0] as f64,
+                g: sky[1] as f64,
+                b: sky[2] as f64,
+                a: 1.0,
+            };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("frame pass"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: sky[0] as f64,
-                            g: sky[1] as f64,
-                            b: sky[2] as f64,
-                            a: 1.0,
-                        }),
-                        // Only the resolved image is read; without MSAA it is this target.
-                        store: if resolve_target.is_some() {
-                            wgpu::StoreOp::Discard
-                        } else {
-                            wgpu::StoreOp::Store
-                        },
-                    },
-                })],
+                color_attachments: &[Some(resolved_colour_attachment(
+                    r.msaa_view.as_ref(),
+                    &r.resolved_view,
+                    clear,
+                ))],
                 depth_stencil_attachment: r.depth_view.as_ref().map(|depth_view| {
                     wgpu::RenderPassDepthStencilAttachment {
                         view: depth_view,
@@ -359,7 +340,11 @@ impl Renderer {
 
         self.look.lines(&self.mesh.edges, x, &mut self.line_scratch);
         self.look.follow_body(x);
+        self.upload_buffers();
+    }
 
+    /// Uploads the uniforms, triangles and lines built for the next draw.
+    fn upload_buffers(&self) {
         let queue = &self.gpu.queue;
         let r = &self.resources;
         queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
