@@ -33,7 +33,8 @@
 use super::RenderError;
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
-    COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment,
+    COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex, padded_row_bytes,
+    resolved_colour_attachment,
 };
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
@@ -186,10 +187,6 @@ impl TileTarget {
             readback,
         }
     }
-}
-
-fn padded_row_bytes(width: u32) -> u32 {
-    (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
 }
 
 /// What a tile is drawn with, besides the tile target: the renderer's

@@ -321,7 +321,7 @@ impl GpuResources {
             })
         });
 
-        let padded_bytes_per_row = (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let padded_bytes_per_row = padded_row_bytes(width);
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback buffer"),
             size: padded_bytes_per_row as u64 * height as u64,
@@ -349,6 +349,12 @@ impl GpuResources {
             padded_bytes_per_row,
         })
     }
+}
+
+/// Bytes per row of an RGBA8 image `width` pixels wide copied to a buffer:
+/// rows start at multiples of `COPY_BYTES_PER_ROW_ALIGNMENT`.
+pub(super) fn padded_row_bytes(width: u32) -> u32 {
+    (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
 }
 
 /// The colour attachment of a pass cleared to `clear`: into `msaa` resolved
