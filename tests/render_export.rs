@@ -5,6 +5,7 @@
 mod render_support;
 
 use elasto::render::{RenderFrame, RenderOutputs, RenderSettings, VideoFormat, render_sequence};
+use image::AnimationDecoder;
 use render_support::{no_adapter_allowed, plain_settings, square};
 use std::path::Path;
 
@@ -108,11 +109,20 @@ fn apng_holds_every_frame_with_the_frame_rate_as_delay() {
     let mut decoded = 0;
     let mut first_frame = None;
     while let Ok(info) = reader.next_frame(&mut buffer) {
-        assert_eq!((info.width, info.height), (64, 48));
         let fc = reader.info().frame_control.unwrap();
         assert_eq!((fc.delay_num, fc.delay_den), (1, 25));
+        // The first frame is whole; later ones may be the rectangle where
+        // they differ from the frame before, inside the image.
+        assert!(
+            fc.x_offset + fc.width <= 64 && fc.y_offset + fc.height <= 48,
+            "{fc:?}"
+        );
         if decoded == 0 {
+            assert_eq!((info.width, info.height), (64, 48));
             first_frame = Some(buffer[..info.buffer_size()].to_vec());
+        } else {
+            // The square covers a part of the image: so does what changed.
+            assert!(fc.width * fc.height < 64 * 48 / 2, "frame {decoded}: {fc:?}");
         }
         decoded += 1;
     }
@@ -122,6 +132,25 @@ fn apng_holds_every_frame_with_the_frame_rate_as_delay() {
         .unwrap()
         .to_rgb8();
     assert_eq!(first_frame.unwrap(), png_frame.into_raw());
+    // Every frame as a player shows it (the rectangles drawn over the frame
+    // before) is the whole image of its PNG frame.
+    let file = std::fs::File::open(dir.path().join("video/video.png")).unwrap();
+    let shown: Vec<image::RgbaImage> =
+        image::codecs::png::PngDecoder::new(std::io::BufReader::new(file))
+            .unwrap()
+            .apng()
+            .unwrap()
+            .into_frames()
+            .map(|frame| frame.unwrap().into_buffer())
+            .collect();
+    assert_eq!(shown.len(), 7);
+    for (i, frame) in shown.iter().enumerate() {
+        assert_eq!(frame.dimensions(), (64, 48), "frame {i}");
+        let png_frame = image::open(dir.path().join(format!("frames/frame_{i:04}.png")))
+            .unwrap()
+            .to_rgba8();
+        assert!(*frame == png_frame, "APNG frame {i} is not frame {i}");
+    }
 }
 
 #[test]

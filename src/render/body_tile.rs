@@ -8,7 +8,8 @@
 //! of the default scene's 9 ms per frame). So the backdrop is drawn once, whole, and each frame draws
 //! only the pixel rectangle `R = [x0, x1) × [y0, y1)` around the body into a
 //! tile target of capacity `Wc × Hc ≥ |R|` (grown as needed, by 64 pixels),
-//! then pastes it into a copy of the backdrop.
+//! and reads back only that: the frame is the backdrop with the tile as its
+//! patch (`frame_image`).
 //!
 //! The tile shows the same pixels as the whole image: a whole-image clip
 //! position `c` (pixel `p = ((c_x / c_w + 1) W / 2, (1 − c_y / c_w) H / 2)`
@@ -31,10 +32,11 @@
 //! pixels.
 
 use super::RenderError;
+use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
-    COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex, padded_row_bytes,
-    resolved_colour_attachment,
+    COLOR_FORMAT, Globals, GpuResources, LineSegment, SurfaceVertex, line_vertex_range,
+    padded_row_bytes, resolved_colour_attachment,
 };
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
@@ -44,15 +46,6 @@ const CAPACITY_STEP: u32 = 64;
 /// Pixels around the body's vertices and edge lines that the tile also holds.
 const MARGIN_PIXELS: f32 = 2.0;
 
-/// A rectangle of whole pixels in the image, `[x, x + width) × [y, y + height)`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct PixelRect {
-    pub x: u32,
-    pub y: u32,
-    pub width: u32,
-    pub height: u32,
-}
-
 /// The pixels a 2D frame's body can touch in a `width × height` image:
 /// every surface vertex and both ends of every edge line (with its square
 /// caps), projected by `view_proj`, plus a margin. `None` when the body is
@@ -61,7 +54,7 @@ pub(super) struct PixelRect {
 pub(super) fn body_rect(
     view_proj: &Matrix4<f32>,
     surface: &[SurfaceVertex],
-    lines: &[LineInstance],
+    lines: &[LineSegment],
     width: u32,
     height: u32,
 ) -> Option<PixelRect> {
@@ -199,20 +192,22 @@ pub(super) struct TileInputs<'a> {
     pub body_lines: std::ops::Range<u32>,
 }
 
-/// The fixed backdrop of a 2D run and the tile target its frames are drawn in.
+/// The fixed backdrop of a 2D run, on the GPU, and the tile target its
+/// frames are drawn in.
 pub(super) struct BodyTiles {
-    backdrop: RgbaImage,
+    /// The image size.
+    size: (u32, u32),
     backdrop_bind_group: wgpu::BindGroup,
     target: Option<TileTarget>,
 }
 
 impl BodyTiles {
-    /// Keeps `backdrop` (the whole image without the body) and uploads it
-    /// for the tiles' first layer.
+    /// Uploads `backdrop` (the whole image without the body) for the tiles'
+    /// first layer.
     pub fn new(
         gpu: &Gpu,
         resources: &GpuResources,
-        backdrop: RgbaImage,
+        backdrop: &RgbaImage,
     ) -> Result<Self, RenderError> {
         let Some((_, layout)) = &resources.backdrop else {
             return Err(RenderError::Gpu {
@@ -258,7 +253,7 @@ impl BodyTiles {
         });
         check_scope(validation, "preparing the 2D backdrop")?;
         Ok(BodyTiles {
-            backdrop,
+            size: backdrop.dimensions(),
             backdrop_bind_group,
             target: None,
         })
@@ -275,7 +270,7 @@ impl BodyTiles {
         let Some(rect) = rect else {
             return Ok(None);
         };
-        let (width, height) = self.backdrop.dimensions();
+        let (width, height) = self.size;
         let needed = (rect.width, rect.height);
         let fits = |t: &TileTarget| t.capacity.0 >= needed.0 && t.capacity.1 >= needed.1;
         if !self.target.as_ref().is_some_and(fits) {
@@ -332,8 +327,8 @@ impl BodyTiles {
             }
             if !inputs.body_lines.is_empty() {
                 pass.set_pipeline(&r.line);
-                pass.set_vertex_buffer(0, r.line_instances.slice(..));
-                pass.draw(0..6, inputs.body_lines.clone());
+                pass.set_vertex_buffer(0, r.line_vertices.slice(..));
+                pass.draw(line_vertex_range(inputs.body_lines.clone()), 0..1);
             }
         }
         gpu.queue.submit([encoder.finish()]);
@@ -342,26 +337,25 @@ impl BodyTiles {
         Ok(Some(rect))
     }
 
-    /// The frame: the backdrop with the tile just drawn (if any) pasted at
-    /// its place.
-    pub fn read_back(&self, gpu: &Gpu, rect: Option<PixelRect>) -> Result<RgbaImage, RenderError> {
-        let mut image = self.backdrop.clone();
+    /// The tile just drawn at `rect` (none when the body is outside the image).
+    pub fn read_back(
+        &self,
+        gpu: &Gpu,
+        rect: Option<PixelRect>,
+    ) -> Result<Option<Patch>, RenderError> {
         let (Some(rect), Some(target)) = (rect, &self.target) else {
-            return Ok(image);
+            return Ok(None);
         };
-        let padded = padded_row_bytes(rect.width);
+        let mut pixels = Vec::with_capacity((rect.width * rect.height * 4) as usize);
         super::renderer::read_texture(
             gpu,
             &target.resolved,
             &target.readback,
-            padded,
+            padded_row_bytes(rect.width),
             (rect.width, rect.height),
-            |row, bytes| {
-                let start = (((rect.y + row) * image.width() + rect.x) * 4) as usize;
-                image.as_mut()[start..start + bytes.len()].copy_from_slice(bytes);
-            },
+            |_, row| pixels.extend_from_slice(row),
         )?;
-        Ok(image)
+        Ok(Some(Patch { rect, pixels }))
     }
 }
 
@@ -447,7 +441,7 @@ mod tests {
             }
         );
         // A line 4 pixels wide reaches 2 sqrt 2 further, plus the margin.
-        let line = LineInstance {
+        let line = LineSegment {
             start: [-0.5, 0.0, 0.0],
             end: [0.25, -0.25, 0.0],
             colour: [0.0; 4],

@@ -1,12 +1,11 @@
-//! Output files of a run: frame names, PNG frames written atomically, and the
+//! Output files of a run: frame names, PNG images written atomically, and the
 //! check that the requested videos can be written.
 
-use super::image_file::{png_error, rgba_to_rgb};
+use super::frame_image::FrameImage;
+use super::frame_png::FramePngWriter;
 use super::mp4_writer::check_h264;
-use super::partial_file::PartialFile;
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
-use std::io::BufWriter;
 use std::path::Path;
 
 /// Checks, before any simulation, that the requested videos can be written:
@@ -36,32 +35,7 @@ pub fn frame_file_name(index: usize, frame_count: usize) -> String {
 /// sRGB chunk, as the frames of a run are written: under a hidden temporary
 /// name first, renamed to `path` once complete.
 pub fn write_png(path: &Path, image: &RgbaImage) -> Result<(), RenderError> {
-    write_png_atomically(path, image, &mut Vec::new())
-}
-
-/// [`write_png`] with a reusable RGB buffer.
-pub(crate) fn write_png_atomically(
-    path: &Path,
-    image: &RgbaImage,
-    rgb: &mut Vec<u8>,
-) -> Result<(), RenderError> {
-    // Dropped on an error, the partial file removes itself.
-    let partial = PartialFile::new(path)?;
-    let mut encoder = png::Encoder::new(
-        BufWriter::with_capacity(1 << 18, partial.create()?),
-        image.width(),
-        image.height(),
-    );
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_compression(png::Compression::Fast);
-    encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
-    let encode_error = |e: png::EncodingError| png_error(path, e);
-    let mut writer = encoder.write_header().map_err(encode_error)?;
-    rgba_to_rgb(image, rgb);
-    writer.write_image_data(rgb).map_err(encode_error)?;
-    writer.finish().map_err(encode_error)?;
-    partial.publish()
+    FramePngWriter::default().write(path, &FrameImage::from(image.clone()))
 }
 
 #[cfg(test)]
@@ -84,7 +58,7 @@ mod tests {
         let image = RgbaImage::from_fn(5, 3, |x, y| {
             image::Rgba([x as u8 * 40, y as u8 * 80, 7, 255])
         });
-        write_png_atomically(&path, &image, &mut Vec::new()).unwrap();
+        write_png(&path, &image).unwrap();
         let names: Vec<_> = std::fs::read_dir(dir.path())
             .unwrap()
             .map(|e| e.unwrap().file_name())
@@ -98,8 +72,7 @@ mod tests {
     fn png_error_names_the_file() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("missing").join("frame_0000.png");
-        let error =
-            write_png_atomically(&path, &RgbaImage::new(2, 2), &mut Vec::new()).unwrap_err();
+        let error = write_png(&path, &RgbaImage::new(2, 2)).unwrap_err();
         assert!(
             error.to_string().contains("missing/frame_0000.png"),
             "{error}"

@@ -1,5 +1,6 @@
 //! A video of images made elsewhere (e.g. a sweep's tiled comparison), through the same writers as a run's video.
 
+use super::frame_image::FrameImage;
 use super::partial_file::PartialFile;
 use super::video::{self, VideoSpec};
 use super::{RenderError, VideoFormat};
@@ -40,7 +41,7 @@ pub fn write_image_video(
                 frame.height()
             )));
         }
-        writer.push(&Arc::new(frame))?;
+        writer.push(&Arc::new(FrameImage::from(frame)))?;
         pushed += 1;
     }
     if pushed != frame_count {

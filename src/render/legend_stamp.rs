@@ -16,6 +16,7 @@
 //! all (the change `round(c + a (t - c)) - c` is largest in size at
 //! `c = 0` or `c = 255`), and a margin of two pixels is added.
 
+use super::frame_image::PixelRect;
 use super::legend::Legend;
 use image::RgbaImage;
 
@@ -78,6 +79,17 @@ impl LegendStamp {
         self.legend.draw(image);
         self.over = self.copy_footprint(image);
         self.under = under;
+    }
+
+    /// The pixels the legend can change, or `None` when it changes none.
+    pub fn footprint_rect(&self) -> Option<PixelRect> {
+        let [x0, y0, x1, y1] = self.footprint;
+        (x1 > x0 && y1 > y0).then_some(PixelRect {
+            x: x0,
+            y: y0,
+            width: x1 - x0,
+            height: y1 - y0,
+        })
     }
 
     /// The footprint `[x0, y0, x1, y1)` (for tests).

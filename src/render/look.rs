@@ -19,7 +19,8 @@
 
 use super::camera::{self, Bounds, Framing, View};
 use super::colormap::{srgb_to_linear3, viridis};
-use super::gpu_resources::{Globals, LineInstance};
+use super::frame_image::PixelRect;
+use super::gpu_resources::{Globals, LineSegment};
 use super::legend::Legend;
 use super::legend_stamp::LegendStamp;
 use super::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
@@ -38,7 +39,7 @@ pub(super) struct Look {
     legend: Option<LegendStamp>,
     globals: Globals,
     /// The 2D ground's line, drawn behind the body.
-    ground_line: Option<LineInstance>,
+    ground_line: Option<LineSegment>,
     /// Colour (linear, with alpha) and width in pixels of the mesh edges;
     /// `None` when edges are off or faded out entirely.
     edges: Option<([f32; 4], f32)>,
@@ -166,11 +167,11 @@ impl Look {
 
     /// The line segments of a frame: the ground line, then the mesh `edges`
     /// between `positions` when they are drawn.
-    pub fn lines(&self, edges: &[[u32; 2]], positions: &[[f32; 3]], lines: &mut Vec<LineInstance>) {
+    pub fn lines(&self, edges: &[[u32; 2]], positions: &[[f32; 3]], lines: &mut Vec<LineSegment>) {
         lines.clear();
         lines.extend(self.ground_line);
         if let Some((colour, width)) = self.edges {
-            lines.extend(edges.iter().map(|&[a, b]| LineInstance {
+            lines.extend(edges.iter().map(|&[a, b]| LineSegment {
                 start: positions[a as usize],
                 end: positions[b as usize],
                 colour,
@@ -186,6 +187,11 @@ impl Look {
             self.globals.shadow = shadow;
             self.globals.shadow_params = params;
         }
+    }
+
+    /// The pixels [`Look::draw_overlay`] can change, if any.
+    pub fn overlay_footprint(&self) -> Option<PixelRect> {
+        self.legend.as_ref().and_then(LegendStamp::footprint_rect)
     }
 
     /// Draws what is drawn on the CPU over the rendered image: the legend.
@@ -320,7 +326,7 @@ fn contact_shadow(bounds: &Bounds, ground: f32) -> ([f32; 4], [f32; 4]) {
 }
 
 /// The 2D ground's surface line across the whole view.
-fn ground_line(view: &View, ground: f32, pixel_scale: f32) -> LineInstance {
+fn ground_line(view: &View, ground: f32, pixel_scale: f32) -> LineSegment {
     let inverse = view
         .view_proj
         .try_inverse()
@@ -330,7 +336,7 @@ fn ground_line(view: &View, ground: f32, pixel_scale: f32) -> LineInstance {
         p.x / p.w
     };
     let c = srgb_to_linear3([0.22, 0.22, 0.24]);
-    LineInstance {
+    LineSegment {
         start: [world_x(-1.2), ground, 0.0],
         end: [world_x(1.2), ground, 0.0],
         colour: [c[0], c[1], c[2], 1.0],

@@ -2,8 +2,8 @@
 //!
 //! The renderer draws what it is given: vertex positions and one scalar per
 //! element, never materials or physics. A run goes
-//! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one RGBA8 image per frame)
-//! → [`SequenceWriter`] (numbered PNG frames, APNG / MP4 / GIF video).
+//! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one [`FrameImage`] per
+//! frame) → [`SequenceWriter`] (numbered PNG frames, APNG / MP4 / GIF video).
 //!
 //! The GPU is whatever wgpu finds: a hardware adapter when present, otherwise
 //! a software one (on a GPU-less Linux machine, the GL backend over Mesa
@@ -11,7 +11,10 @@
 //! backends tried. Images are rendered with 4x MSAA into an sRGB target; a
 //! 2D frame draws only the tile around its body over the run's fixed
 //! backdrop (`body_tile`), so that a software rasteriser does not clear and
-//! resolve the whole image's samples for every frame.
+//! resolve the whole image's samples for every frame, and the frame stays a
+//! patch over the run's base image ([`FrameImage`]) all the way to the
+//! files, so that encoding it costs what the patch costs (`frame_png`, the
+//! APNG's sub-frames in `video`).
 //!
 //! Colours: element scalars go through [`viridis`] over one range for the
 //! whole run (automatic: min/max over all frames), so colours never flicker;
@@ -25,6 +28,8 @@ mod body_tile;
 mod camera;
 mod colormap;
 mod export;
+mod frame_image;
+mod frame_png;
 mod frame_shape;
 mod gpu;
 mod gpu_resources;
@@ -43,6 +48,7 @@ mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
 pub use export::{check_video_support, frame_file_name, write_png};
+pub use frame_image::FrameImage;
 pub use gpu::{adapter_description, max_image_size};
 pub use image_video::write_image_video;
 pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;

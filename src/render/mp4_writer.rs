@@ -19,10 +19,10 @@
 //! partial video.
 
 use super::RenderError;
+use super::frame_image::FrameImage;
 use super::partial_file::{PartialFile, SpawnError, kill_and_reap, spawn_process, try_reap};
 use super::video::{VideoSpec, VideoWriter};
 use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, bounded};
-use image::RgbaImage;
 use std::ffi::OsString;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -144,7 +144,7 @@ pub(crate) struct Mp4Writer {
 /// The queue to the thread that writes frames to ffmpeg's stdin, and its
 /// answers: one per frame, once the frame is written (or the write failed).
 struct FrameFeeder {
-    frames: Sender<Arc<RgbaImage>>,
+    frames: Sender<Arc<FrameImage>>,
     written: Receiver<std::io::Result<()>>,
 }
 
@@ -153,11 +153,17 @@ impl FrameFeeder {
     /// end of its input) or a write fails; it is never joined, so a write
     /// that blocks forever cannot block anything else.
     fn spawn(mut stdin: ChildStdin) -> Self {
-        let (frames, queue) = bounded::<Arc<RgbaImage>>(1);
+        let (frames, queue) = bounded::<Arc<FrameImage>>(1);
         let (answer, written) = bounded(1);
         std::thread::spawn(move || {
+            let mut scratch = Vec::new();
             for frame in queue {
-                let result = stdin.write_all(frame.as_raw());
+                let mut result = Ok(());
+                frame.for_each_rgba_span(&mut scratch, |span| {
+                    if result.is_ok() {
+                        result = stdin.write_all(span);
+                    }
+                });
                 let failed = result.is_err();
                 if answer.send(result).is_err() || failed {
                     break;
@@ -323,7 +329,7 @@ impl Mp4Writer {
 }
 
 impl VideoWriter for Mp4Writer {
-    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
         let Some(input) = self.input.as_ref() else {
             return Err(RenderError::Ffmpeg {
                 path: self.path.clone(),

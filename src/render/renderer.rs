@@ -1,13 +1,14 @@
-//! [`Renderer`]: draws the frames of one run into RGBA8 images — the frame
+//! [`Renderer`]: draws the frames of one run into images — the frame
 //! lifecycle.
 //!
 //! A renderer is made once per run: the input checks ([`FrameShape`]), the
 //! run's appearance ([`Look`]: camera, colours, ground, shadow, edges,
 //! legend) and the GPU objects ([`GpuResources`]) are all fixed then, and in
-//! 2D the backdrop (the whole image without the body, see [`BodyTiles`]).
-//! Each frame then reads as one straight line: check it, fill the vertex and
-//! uniform buffers, draw, read back, stamp the legend (drawn once on the
-//! CPU).
+//! 2D the backdrop (the whole image without the body, see [`BodyTiles`]) and
+//! the base every frame is a patch over (the backdrop with the legend, see
+//! [`FrameImage`]). Each frame then reads as one straight line: check it,
+//! fill the vertex and uniform buffers, draw, read back, stamp the legend
+//! (drawn once on the CPU).
 //!
 //! - **3D** (and [`Renderer::render_whole_image`]): one pass over the whole
 //!   image into a 4x MSAA target with a depth target, resolved to
@@ -16,11 +17,12 @@
 //!   they are shaded, with depth tests that give the painter's image (see
 //!   `DepthTest`). The resolved texture is copied to a buffer with rows
 //!   padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, mapped, and the padding
-//!   stripped ([`read_texture`]).
+//!   stripped ([`read_texture`]); the legend is stamped on it.
 //! - **2D**: the same pass, painted back to front (background, ground,
 //!   surface, edges), but only over the pixel rectangle around the body, in
-//!   a small target that starts from the backdrop; the tile read back is
-//!   pasted into a copy of the backdrop.
+//!   a small target that starts from the backdrop; the tile read back is the
+//!   frame's patch over the base. Where the tile meets the legend, the
+//!   legend is drawn over the tile's pixels too.
 //!
 //! (Drawing and readback are two submissions instead of one: that costs next
 //! to nothing and lets [`Renderer::render_timed`] time them apart.)
@@ -30,9 +32,13 @@
 //! unlit 2D pixel reads back as the colour map's own sRGB value.
 
 use super::body_tile::{BodyTiles, TileInputs, body_rect};
+use super::frame_image::{FrameBase, FrameImage, Patch};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment};
+use super::gpu_resources::{
+    GpuResources, LineSegment, SurfaceVertex, line_vertex_range, push_line_vertices,
+    resolved_colour_attachment,
+};
 use super::look::Look;
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
@@ -60,10 +66,21 @@ pub struct Renderer {
     look: Look,
     resources: GpuResources,
     surface_scratch: Vec<SurfaceVertex>,
-    line_scratch: Vec<LineInstance>,
+    line_scratch: Vec<LineSegment>,
+    /// `line_scratch` with each segment once per corner, as uploaded.
+    line_vertex_scratch: Vec<LineSegment>,
     colour_scratch: Vec<[f32; 3]>,
-    /// 2D: the fixed backdrop, and the tiles each frame's body is drawn in.
-    tiles: Option<BodyTiles>,
+    /// 2D: what every frame shares, and the tiles each frame's body is drawn in.
+    backdrop: Option<Backdrop>,
+}
+
+/// The fixed part of a 2D run's frames.
+struct Backdrop {
+    /// The whole image without the body and the legend.
+    image: RgbaImage,
+    /// The backdrop with the legend: every frame is a patch over it.
+    base: Arc<FrameBase>,
+    tiles: BodyTiles,
 }
 
 impl Renderer {
@@ -99,16 +116,20 @@ impl Renderer {
             resources,
             surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
             line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
+            line_vertex_scratch: Vec::new(),
             colour_scratch: Vec::with_capacity(mesh.element_count),
-            tiles: None,
+            backdrop: None,
         };
         if mesh.dimension == 2 {
-            let backdrop = renderer.draw_backdrop()?;
-            renderer.tiles = Some(BodyTiles::new(
-                &renderer.gpu,
-                &renderer.resources,
-                backdrop,
-            )?);
+            let image = renderer.draw_backdrop()?;
+            let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &image)?;
+            let mut base = image.clone();
+            renderer.look.draw_overlay(&mut base);
+            renderer.backdrop = Some(Backdrop {
+                image,
+                base: FrameBase::new(base),
+                tiles,
+            });
         }
         Ok(renderer)
     }
@@ -128,9 +149,9 @@ impl Renderer {
         (self.settings.width, self.settings.height)
     }
 
-    /// Draws one frame.
+    /// Draws one frame as a whole image.
     pub fn render(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
-        self.render_timed(frame).map(|(image, _)| image)
+        self.render_timed(frame).map(|(image, _)| image.to_rgba())
     }
 
     /// Draws one frame as one whole image. [`Renderer::render`] draws a 2D
@@ -146,50 +167,60 @@ impl Renderer {
         Ok(image)
     }
 
-    /// Draws one frame and says how long each stage took (for benchmarks).
+    /// Draws one frame, in 2D as a patch over the run's base (see
+    /// [`FrameImage`]), and says how long each stage took.
     pub fn render_timed(
         &mut self,
         frame: &RenderFrame,
-    ) -> Result<(RgbaImage, FrameTimings), RenderError> {
+    ) -> Result<(FrameImage, FrameTimings), RenderError> {
         let start = Instant::now();
         self.shape.check(frame)?;
         self.fill_buffers(frame);
-        let (mut image, drawn) = match &mut self.tiles {
-            Some(tiles) => {
-                let (width, height) = (self.settings.width, self.settings.height);
-                let ground_lines = self.look.ground_lines();
-                let globals = self.look.globals();
-                let rect = body_rect(
-                    &Matrix4::from(globals.view_proj),
-                    &self.surface_scratch,
-                    &self.line_scratch[ground_lines as usize..],
-                    width,
-                    height,
-                );
-                let inputs = TileInputs {
-                    resources: &self.resources,
-                    globals,
-                    surface_vertices: self.surface_scratch.len() as u32,
-                    body_lines: ground_lines..self.line_scratch.len() as u32,
-                };
-                let rect = tiles.draw(&self.gpu, &inputs, rect)?;
-                let drawn = Instant::now();
-                (tiles.read_back(&self.gpu, rect)?, drawn)
-            }
-            None => {
-                self.draw_whole_image(true)?;
-                let drawn = Instant::now();
-                (self.read_whole_image()?, drawn)
-            }
-        };
-        let read = Instant::now();
-        self.look.draw_overlay(&mut image);
-        let timings = FrameTimings {
+        let timings = |drawn: Instant, read: Instant| FrameTimings {
             draw: drawn - start,
             readback: read - drawn,
             overlay: read.elapsed(),
         };
-        Ok((image, timings))
+        let Some(backdrop) = &mut self.backdrop else {
+            self.draw_whole_image(true)?;
+            let drawn = Instant::now();
+            let mut image = self.read_whole_image()?;
+            let read = Instant::now();
+            self.look.draw_overlay(&mut image);
+            return Ok((FrameImage::from(image), timings(drawn, read)));
+        };
+        let (width, height) = (self.settings.width, self.settings.height);
+        let ground_lines = self.look.ground_lines();
+        let globals = self.look.globals();
+        let rect = body_rect(
+            &Matrix4::from(globals.view_proj),
+            &self.surface_scratch,
+            &self.line_scratch[ground_lines as usize..],
+            width,
+            height,
+        );
+        let inputs = TileInputs {
+            resources: &self.resources,
+            globals,
+            surface_vertices: self.surface_scratch.len() as u32,
+            body_lines: ground_lines..self.line_scratch.len() as u32,
+        };
+        let rect = backdrop.tiles.draw(&self.gpu, &inputs, rect)?;
+        let drawn = Instant::now();
+        let patch = backdrop.tiles.read_back(&self.gpu, rect)?;
+        let read = Instant::now();
+        // Where the body meets the legend, the legend is drawn over it.
+        let patch = patch.map(|patch| match self.look.overlay_footprint() {
+            Some(footprint) if footprint.intersects(&patch.rect) => {
+                let mut image = backdrop.image.clone();
+                patch.paste_into(&mut image);
+                self.look.draw_overlay(&mut image);
+                Patch::cut(&image, patch.rect)
+            }
+            _ => patch,
+        });
+        let image = FrameImage::patched(backdrop.base.clone(), patch);
+        Ok((image, timings(drawn, read)))
     }
 
     /// The 2D backdrop: the whole image without the body (no legend).
@@ -279,15 +310,18 @@ impl Renderer {
                 }
                 if ground_lines > 0 {
                     pass.set_pipeline(&r.line);
-                    pass.set_vertex_buffer(0, r.line_instances.slice(..));
-                    pass.draw(0..6, 0..ground_lines);
+                    pass.set_vertex_buffer(0, r.line_vertices.slice(..));
+                    pass.draw(line_vertex_range(0..ground_lines), 0..1);
                 }
                 draw_surface(&mut pass);
             }
             if with_body && self.line_scratch.len() as u32 > ground_lines {
                 pass.set_pipeline(&r.line);
-                pass.set_vertex_buffer(0, r.line_instances.slice(..));
-                pass.draw(0..6, ground_lines..self.line_scratch.len() as u32);
+                pass.set_vertex_buffer(0, r.line_vertices.slice(..));
+                pass.draw(
+                    line_vertex_range(ground_lines..self.line_scratch.len() as u32),
+                    0..1,
+                );
             }
         }
         queue.submit([encoder.finish()]);
@@ -344,7 +378,8 @@ impl Renderer {
     }
 
     /// Uploads the uniforms, triangles and lines built for the next draw.
-    fn upload_buffers(&self) {
+    fn upload_buffers(&mut self) {
+        push_line_vertices(&self.line_scratch, &mut self.line_vertex_scratch);
         let queue = &self.gpu.queue;
         let r = &self.resources;
         queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
@@ -354,9 +389,9 @@ impl Renderer {
             bytemuck::cast_slice(&self.surface_scratch),
         );
         queue.write_buffer(
-            &r.line_instances,
+            &r.line_vertices,
             0,
-            bytemuck::cast_slice(&self.line_scratch),
+            bytemuck::cast_slice(&self.line_vertex_scratch),
         );
     }
 }

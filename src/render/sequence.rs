@@ -4,8 +4,9 @@
 //! simulation produces them or from a finished run. The calling thread
 //! renders each frame and hands the image to:
 //! - PNG workers, through a bounded queue (so memory stays flat however long
-//!   the run), which encode with fast compression and write each frame under
-//!   a hidden temporary name, renamed once complete;
+//!   the run), which encode with fast compression (a 2D frame reuses its
+//!   base's rows compressed once, see `frame_png`) and write each frame
+//!   under a hidden temporary name, renamed once complete;
 //! - one thread per video format, through its own bounded queue, in frame
 //!   order.
 //!
@@ -21,7 +22,9 @@
 //! [`remove_partial_files`](super::remove_partial_files).
 
 use super::colormap::linear_to_srgb8;
-use super::export::{check_video_support, frame_file_name, write_png_atomically};
+use super::export::{check_video_support, frame_file_name};
+use super::frame_image::FrameImage;
+use super::frame_png::FramePngWriter;
 use super::partial_file::PartialFile;
 use super::video::{self, VideoSpec, VideoWriter};
 use super::{
@@ -29,7 +32,6 @@ use super::{
     VideoFormat,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
-use image::RgbaImage;
 use std::path::Path;
 use std::sync::Arc;
 use std::thread::JoinHandle;
@@ -63,7 +65,7 @@ pub struct SequenceWriter {
     renderer: Renderer,
     frame_count: usize,
     pushed: usize,
-    png_sender: Option<Sender<(usize, Arc<RgbaImage>)>>,
+    png_sender: Option<Sender<(usize, Arc<FrameImage>)>>,
     png_done: Receiver<Result<(usize, Duration), RenderError>>,
     png_workers: Vec<JoinHandle<()>>,
     videos: Vec<VideoThread>,
@@ -84,7 +86,7 @@ pub struct SequenceWriter {
 struct VideoThread {
     /// The video's file; removed unless published.
     partial: Option<PartialFile>,
-    sender: Option<Sender<Arc<RgbaImage>>>,
+    sender: Option<Sender<Arc<FrameImage>>>,
     thread: Option<JoinHandle<Result<(), RenderError>>>,
 }
 
@@ -154,7 +156,7 @@ impl SequenceWriter {
         let workers = std::thread::available_parallelism()
             .map_or(2, |n| n.get())
             .clamp(1, 4);
-        let (png_sender, png_receiver) = bounded::<(usize, Arc<RgbaImage>)>(2 * workers);
+        let (png_sender, png_receiver) = bounded::<(usize, Arc<FrameImage>)>(2 * workers);
         let (done_sender, png_done) = unbounded();
         let png_workers = (0..workers)
             .map(|_| {
@@ -360,7 +362,7 @@ impl VideoThread {
         mut writer: Box<dyn VideoWriter>,
         done: Sender<(usize, Duration)>,
     ) -> Self {
-        let (sender, receiver) = bounded::<Arc<RgbaImage>>(3);
+        let (sender, receiver) = bounded::<Arc<FrameImage>>(3);
         let thread = std::thread::spawn(move || -> Result<(), RenderError> {
             for (index, image) in receiver.into_iter().enumerate() {
                 let start = Instant::now();
@@ -426,15 +428,14 @@ fn create_dir(dir: &Path) -> Result<(), RenderError> {
 fn png_worker(
     dir: &Path,
     frame_count: usize,
-    frames: Receiver<(usize, Arc<RgbaImage>)>,
+    frames: Receiver<(usize, Arc<FrameImage>)>,
     done: Sender<Result<(usize, Duration), RenderError>>,
 ) {
-    let mut rgb = Vec::new();
+    let mut png = FramePngWriter::default();
     for (index, image) in frames {
         let start = Instant::now();
         let path = dir.join(frame_file_name(index, frame_count));
-        let result =
-            write_png_atomically(&path, &image, &mut rgb).map(|()| (index, start.elapsed()));
+        let result = png.write(&path, &image).map(|()| (index, start.elapsed()));
         let failed = result.is_err();
         let _ = done.send(result);
         if failed {

@@ -6,18 +6,23 @@
 //! that looks complete.
 //!
 //! - APNG (`video.png`): the `png` crate, RGB, fast compression, frame delay
-//!   from the frame rate as an exact fraction where possible.
+//!   from the frame rate as an exact fraction where possible. The first frame
+//!   is whole; after it, a frame over the same base as the one before
+//!   (`frame_image`) stores only the rectangle where the two can differ, the
+//!   union of their patches, drawn over the previous frame (dispose `None`,
+//!   blend `Source`), so a small body costs a small frame.
 //! - MP4 (`video.mp4`): raw RGBA frames piped to `ffmpeg`, never waiting on
 //!   it forever (see [`Mp4Writer`]).
 //! - GIF (`video.gif`): the `gif` crate, one NeuQuant palette per frame.
 //!   Viewers treat GIF delays under 2/100 s as 1/10 s, so above 50 frames per
 //!   second the GIF keeps every n-th frame and plays at `fps / n`.
 
-use super::image_file::{png_error, rgba_to_rgb};
+use super::frame_image::{FrameBase, FrameImage, PixelRect};
+use super::frame_png::png_encoder;
+use super::image_file::png_error;
 use super::mp4_writer::Mp4Writer;
 use super::partial_file::PartialFile;
 use super::{RenderError, VideoFormat};
-use image::RgbaImage;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -51,7 +56,7 @@ pub(crate) struct VideoSpec<'a> {
 /// A video being written.
 pub(crate) trait VideoWriter: Send {
     /// Appends the next frame.
-    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError>;
+    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError>;
     /// Completes the temporary file.
     fn finish(self: Box<Self>) -> Result<(), RenderError>;
 }
@@ -100,6 +105,10 @@ pub(crate) fn frame_delay(fps: f64) -> (u16, u16) {
 struct ApngWriter {
     path: PathBuf,
     writer: png::Writer<BufWriter<File>>,
+    size: (u32, u32),
+    /// The previous frame's base and the rectangle where it differed from
+    /// it; `None` before the first frame or after a whole one.
+    previous: Option<(Arc<FrameBase>, Option<PixelRect>)>,
     rgb: Vec<u8>,
 }
 
@@ -110,11 +119,7 @@ impl ApngWriter {
             path: spec.path.to_owned(),
             message: format!("{} frames are too many for APNG", spec.frame_count),
         })?;
-        let mut encoder = png::Encoder::new(create(partial)?, spec.width, spec.height);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(png::Compression::Fast);
-        encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+        let mut encoder = png_encoder(create(partial)?, spec.width, spec.height);
         encoder.set_animated(frames, 0).map_err(encode_error)?;
         let (numerator, denominator) = frame_delay(spec.fps);
         encoder
@@ -124,17 +129,63 @@ impl ApngWriter {
         Ok(Self {
             path: spec.path.to_owned(),
             writer,
+            size: (spec.width, spec.height),
+            previous: None,
             rgb: Vec::new(),
         })
+    }
+
+    /// The rectangle of `frame` to store: where it can differ from the
+    /// previous frame, or the whole image.
+    fn region(&self, frame: &FrameImage) -> PixelRect {
+        let (width, height) = self.size;
+        let whole = PixelRect {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        };
+        match (&self.previous, frame.over_base()) {
+            (Some((previous_base, before)), Some((base, now)))
+                if Arc::ptr_eq(previous_base, base) =>
+            {
+                match (*before, now) {
+                    (Some(before), Some(now)) => before.union(&now),
+                    (Some(only), None) | (None, Some(only)) => only,
+                    // The same image again: one pixel, unchanged.
+                    (None, None) => PixelRect {
+                        width: 1,
+                        height: 1,
+                        ..whole
+                    },
+                }
+            }
+            _ => whole,
+        }
     }
 }
 
 impl VideoWriter for ApngWriter {
-    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
-        rgba_to_rgb(frame, &mut self.rgb);
+    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
+        let encode_error = |e: png::EncodingError| png_error(&self.path, e);
+        let region = self.region(frame);
+        // Back to the origin first, so that no intermediate rectangle leaves the image.
+        self.writer.reset_frame_position().map_err(encode_error)?;
+        self.writer
+            .set_frame_dimension(region.width, region.height)
+            .map_err(encode_error)?;
+        self.writer
+            .set_frame_position(region.x, region.y)
+            .map_err(encode_error)?;
+        self.rgb.clear();
+        frame.push_rgb_rect(region, &mut self.rgb);
         self.writer
             .write_image_data(&self.rgb)
-            .map_err(|e| png_error(&self.path, e))
+            .map_err(|e| png_error(&self.path, e))?;
+        self.previous = frame
+            .over_base()
+            .map(|(base, changed)| (base.clone(), changed));
+        Ok(())
     }
 
     fn finish(self: Box<Self>) -> Result<(), RenderError> {
@@ -154,6 +205,7 @@ struct GifWriter {
     pushed: usize,
     written: usize,
     pixels: Vec<u8>,
+    scratch: Vec<u8>,
 }
 
 impl GifWriter {
@@ -184,19 +236,22 @@ impl GifWriter {
             pushed: 0,
             written: 0,
             pixels: Vec::new(),
+            scratch: Vec::new(),
         })
     }
 }
 
 impl VideoWriter for GifWriter {
-    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
         let index = self.pushed;
         self.pushed += 1;
         if !index.is_multiple_of(self.stride) {
             return Ok(());
         }
         self.pixels.clear();
-        self.pixels.extend_from_slice(frame.as_raw());
+        frame.for_each_rgba_span(&mut self.scratch, |span| {
+            self.pixels.extend_from_slice(span)
+        });
         let mut gif_frame =
             gif::Frame::from_rgba_speed(self.width, self.height, &mut self.pixels, 10);
         // Delays in 1/100 s, rounded so that the total stays on time.
