@@ -1,6 +1,5 @@
-// Thin lines as screen-space quads: each segment, given to all six corners
-// of its two triangles (vertex i is corner i % 6), is expanded to a
-// rectangle of its width in pixels (with square caps), pulled slightly
+// Thin lines as screen-space quads: each instance is one segment, expanded
+// to a rectangle of its width in pixels (with square caps), pulled slightly
 // towards the eye so that edges win the depth test against their own faces.
 
 // `Globals` and its binding `g` come from globals.wgsl, prepended when loaded.
@@ -29,7 +28,7 @@ fn vs_main(@builtin(vertex_index) index: u32, line: LineIn) -> VsOut {
         vec2<f32>(0.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(0.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(0.0, 1.0),
     );
-    let corner = corners[index % 6u];
+    let corner = corners[index];
     let a = pulled(line.start);
     let b = pulled(line.end);
     let half_size = 0.5 * g.viewport.xy;

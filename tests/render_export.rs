@@ -122,7 +122,10 @@ fn apng_holds_every_frame_with_the_frame_rate_as_delay() {
             first_frame = Some(buffer[..info.buffer_size()].to_vec());
         } else {
             // The square covers a part of the image: so does what changed.
-            assert!(fc.width * fc.height < 64 * 48 / 2, "frame {decoded}: {fc:?}");
+            assert!(
+                fc.width * fc.height < 64 * 48 / 2,
+                "frame {decoded}: {fc:?}"
+            );
         }
         decoded += 1;
     }

@@ -35,8 +35,8 @@ use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
-    COLOR_FORMAT, Globals, GpuResources, LineSegment, SurfaceVertex, line_vertex_range,
-    padded_row_bytes, resolved_colour_attachment,
+    COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex, padded_row_bytes,
+    resolved_colour_attachment,
 };
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
@@ -54,7 +54,7 @@ const MARGIN_PIXELS: f32 = 2.0;
 pub(super) fn body_rect(
     view_proj: &Matrix4<f32>,
     surface: &[SurfaceVertex],
-    lines: &[LineSegment],
+    lines: &[LineInstance],
     width: u32,
     height: u32,
 ) -> Option<PixelRect> {
@@ -327,8 +327,8 @@ impl BodyTiles {
             }
             if !inputs.body_lines.is_empty() {
                 pass.set_pipeline(&r.line);
-                pass.set_vertex_buffer(0, r.line_vertices.slice(..));
-                pass.draw(line_vertex_range(inputs.body_lines.clone()), 0..1);
+                pass.set_vertex_buffer(0, r.line_instances.slice(..));
+                pass.draw(0..6, inputs.body_lines.clone());
             }
         }
         gpu.queue.submit([encoder.finish()]);
@@ -441,7 +441,7 @@ mod tests {
             }
         );
         // A line 4 pixels wide reaches 2 sqrt 2 further, plus the margin.
-        let line = LineSegment {
+        let line = LineInstance {
             start: [-0.5, 0.0, 0.0],
             end: [0.25, -0.25, 0.0],
             colour: [0.0; 4],

@@ -62,37 +62,14 @@ pub(super) struct SurfaceVertex {
     pub colour: [f32; 3],
 }
 
-/// One line segment. The line vertex buffer holds each segment once per
-/// corner of its quad ([`LINE_CORNERS`] times in a row) and draws them
-/// without instancing: Mesa's llvmpipe runs its whole vertex pipeline once
-/// per instance, which made a 2D frame's few hundred edges cost about 8 µs
-/// each; as plain vertices they are one batch, and the same triangles in the
-/// same order.
+/// One line segment (instanced).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub(super) struct LineSegment {
+pub(super) struct LineInstance {
     pub start: [f32; 3],
     pub end: [f32; 3],
     pub colour: [f32; 4],
     pub width: f32,
-}
-
-/// Vertices per line segment: two triangles.
-pub(super) const LINE_CORNERS: u32 = 6;
-
-/// The vertices of the line segments `segments` in the line vertex buffer.
-pub(super) fn line_vertex_range(segments: std::ops::Range<u32>) -> std::ops::Range<u32> {
-    segments.start * LINE_CORNERS..segments.end * LINE_CORNERS
-}
-
-/// Fills `vertices` with `segments`, each repeated once per corner.
-pub(super) fn push_line_vertices(segments: &[LineSegment], vertices: &mut Vec<LineSegment>) {
-    vertices.clear();
-    vertices.extend(
-        segments
-            .iter()
-            .flat_map(|segment| std::iter::repeat_n(*segment, LINE_CORNERS as usize)),
-    );
 }
 
 /// A shader module from `shaders/NAME.wgsl` with `shaders/globals.wgsl`
@@ -122,7 +99,7 @@ pub(super) struct GpuResources {
     /// as the layout here) into a body tile.
     pub backdrop: Option<(wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
     pub surface_vertices: wgpu::Buffer,
-    pub line_vertices: wgpu::Buffer,
+    pub line_instances: wgpu::Buffer,
     /// Multisampled colour target (`None` without MSAA).
     pub msaa_view: Option<wgpu::TextureView>,
     pub resolved: wgpu::Texture,
@@ -228,8 +205,8 @@ impl GpuResources {
             "line pipeline",
             &device.create_shader_module(shader!("line")),
             &[Some(wgpu::VertexBufferLayout {
-                array_stride: std::mem::size_of::<LineSegment>() as u64,
-                step_mode: wgpu::VertexStepMode::Vertex,
+                array_stride: std::mem::size_of::<LineInstance>() as u64,
+                step_mode: wgpu::VertexStepMode::Instance,
                 attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
             })],
             Some(wgpu::BlendState::ALPHA_BLENDING),
@@ -286,9 +263,9 @@ impl GpuResources {
             mesh.triangles.len() * 3 * std::mem::size_of::<SurfaceVertex>(),
             vertex_usage,
         );
-        let line_vertices = buffer(
-            "line vertex buffer",
-            (mesh.edges.len() + 1) * LINE_CORNERS as usize * std::mem::size_of::<LineSegment>(),
+        let line_instances = buffer(
+            "line instance buffer",
+            (mesh.edges.len() + 1) * std::mem::size_of::<LineInstance>(),
             vertex_usage,
         );
 
@@ -363,7 +340,7 @@ impl GpuResources {
             line,
             backdrop,
             surface_vertices,
-            line_vertices,
+            line_instances,
             msaa_view,
             resolved,
             resolved_view,
@@ -507,7 +484,7 @@ mod tests {
     #[test]
     fn globals_layout_has_no_padding() {
         assert_eq!(std::mem::size_of::<Globals>(), 64 + 13 * 16);
-        assert_eq!(std::mem::size_of::<LineSegment>(), 44);
+        assert_eq!(std::mem::size_of::<LineInstance>(), 44);
         assert_eq!(std::mem::size_of::<SurfaceVertex>(), 36);
     }
 }

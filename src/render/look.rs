@@ -20,7 +20,7 @@
 use super::camera::{self, Bounds, Framing, View};
 use super::colormap::{srgb_to_linear3, viridis};
 use super::frame_image::PixelRect;
-use super::gpu_resources::{Globals, LineSegment};
+use super::gpu_resources::{Globals, LineInstance};
 use super::legend::Legend;
 use super::legend_stamp::LegendStamp;
 use super::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
@@ -39,7 +39,7 @@ pub(super) struct Look {
     legend: Option<LegendStamp>,
     globals: Globals,
     /// The 2D ground's line, drawn behind the body.
-    ground_line: Option<LineSegment>,
+    ground_line: Option<LineInstance>,
     /// Colour (linear, with alpha) and width in pixels of the mesh edges;
     /// `None` when edges are off or faded out entirely.
     edges: Option<([f32; 4], f32)>,
@@ -167,11 +167,11 @@ impl Look {
 
     /// The line segments of a frame: the ground line, then the mesh `edges`
     /// between `positions` when they are drawn.
-    pub fn lines(&self, edges: &[[u32; 2]], positions: &[[f32; 3]], lines: &mut Vec<LineSegment>) {
+    pub fn lines(&self, edges: &[[u32; 2]], positions: &[[f32; 3]], lines: &mut Vec<LineInstance>) {
         lines.clear();
         lines.extend(self.ground_line);
         if let Some((colour, width)) = self.edges {
-            lines.extend(edges.iter().map(|&[a, b]| LineSegment {
+            lines.extend(edges.iter().map(|&[a, b]| LineInstance {
                 start: positions[a as usize],
                 end: positions[b as usize],
                 colour,
@@ -326,7 +326,7 @@ fn contact_shadow(bounds: &Bounds, ground: f32) -> ([f32; 4], [f32; 4]) {
 }
 
 /// The 2D ground's surface line across the whole view.
-fn ground_line(view: &View, ground: f32, pixel_scale: f32) -> LineSegment {
+fn ground_line(view: &View, ground: f32, pixel_scale: f32) -> LineInstance {
     let inverse = view
         .view_proj
         .try_inverse()
@@ -336,7 +336,7 @@ fn ground_line(view: &View, ground: f32, pixel_scale: f32) -> LineSegment {
         p.x / p.w
     };
     let c = srgb_to_linear3([0.22, 0.22, 0.24]);
-    LineSegment {
+    LineInstance {
         start: [world_x(-1.2), ground, 0.0],
         end: [world_x(1.2), ground, 0.0],
         colour: [c[0], c[1], c[2], 1.0],

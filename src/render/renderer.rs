@@ -35,10 +35,7 @@ use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_image::{FrameBase, FrameImage, Patch};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{
-    GpuResources, LineSegment, SurfaceVertex, line_vertex_range, push_line_vertices,
-    resolved_colour_attachment,
-};
+use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment};
 use super::look::Look;
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
@@ -66,9 +63,7 @@ pub struct Renderer {
     look: Look,
     resources: GpuResources,
     surface_scratch: Vec<SurfaceVertex>,
-    line_scratch: Vec<LineSegment>,
-    /// `line_scratch` with each segment once per corner, as uploaded.
-    line_vertex_scratch: Vec<LineSegment>,
+    line_scratch: Vec<LineInstance>,
     colour_scratch: Vec<[f32; 3]>,
     /// 2D: what every frame shares, and the tiles each frame's body is drawn in.
     backdrop: Option<Backdrop>,
@@ -116,7 +111,6 @@ impl Renderer {
             resources,
             surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
             line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
-            line_vertex_scratch: Vec::new(),
             colour_scratch: Vec::with_capacity(mesh.element_count),
             backdrop: None,
         };
@@ -310,18 +304,15 @@ impl Renderer {
                 }
                 if ground_lines > 0 {
                     pass.set_pipeline(&r.line);
-                    pass.set_vertex_buffer(0, r.line_vertices.slice(..));
-                    pass.draw(line_vertex_range(0..ground_lines), 0..1);
+                    pass.set_vertex_buffer(0, r.line_instances.slice(..));
+                    pass.draw(0..6, 0..ground_lines);
                 }
                 draw_surface(&mut pass);
             }
             if with_body && self.line_scratch.len() as u32 > ground_lines {
                 pass.set_pipeline(&r.line);
-                pass.set_vertex_buffer(0, r.line_vertices.slice(..));
-                pass.draw(
-                    line_vertex_range(ground_lines..self.line_scratch.len() as u32),
-                    0..1,
-                );
+                pass.set_vertex_buffer(0, r.line_instances.slice(..));
+                pass.draw(0..6, ground_lines..self.line_scratch.len() as u32);
             }
         }
         queue.submit([encoder.finish()]);
@@ -378,8 +369,7 @@ impl Renderer {
     }
 
     /// Uploads the uniforms, triangles and lines built for the next draw.
-    fn upload_buffers(&mut self) {
-        push_line_vertices(&self.line_scratch, &mut self.line_vertex_scratch);
+    fn upload_buffers(&self) {
         let queue = &self.gpu.queue;
         let r = &self.resources;
         queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
@@ -389,9 +379,9 @@ impl Renderer {
             bytemuck::cast_slice(&self.surface_scratch),
         );
         queue.write_buffer(
-            &r.line_vertices,
+            &r.line_instances,
             0,
-            bytemuck::cast_slice(&self.line_vertex_scratch),
+            bytemuck::cast_slice(&self.line_scratch),
         );
     }
 }
