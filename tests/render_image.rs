@@ -5,7 +5,8 @@
 mod render_support;
 
 use elasto::render::{
-    Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings, Renderer, viridis,
+    Camera, Colouring, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderSettings,
+    Renderer, viridis,
 };
 use render_support::{assert_pixel, plain_settings, renderer_or_skip, square, srgb8};
 
@@ -335,6 +336,7 @@ fn a_2d_body_tile_shows_what_the_whole_image_shows() {
         frame(-2.2, 0.3, -0.1), // partly outside on the left
         frame(0.4, -0.1, 0.3),  // overlapping the ground
         frame(9.0, 9.0, 0.0),   // entirely outside
+        frame(1.2, 0.2, 0.1),   // reaching under the legend
     ];
     let settings = RenderSettings {
         width: 480,
@@ -355,8 +357,18 @@ fn a_2d_body_tile_shows_what_the_whole_image_shows() {
     let Some(mut renderer) = renderer_or_skip(&settings, &render_mesh, &frames) else {
         return;
     };
+    // A renderer prepared on its own, warmed up with a throwaway frame, then
+    // given the run, draws the same bytes.
+    let mut prepared = Renderer::prepare(&settings, &render_mesh)
+        .and_then(PreparedRenderer::warmed_up)
+        .and_then(|prepared| prepared.with_frames(&frames))
+        .unwrap();
     for (k, frame) in frames.iter().enumerate() {
         let tiled = renderer.render(frame).unwrap();
+        assert!(
+            tiled == prepared.render(frame).unwrap(),
+            "frame {k}: the warmed-up renderer draws differently"
+        );
         let whole = renderer.render_whole_image(frame).unwrap();
         assert_eq!(tiled.dimensions(), whole.dimensions());
         // The tile's vertices go through one more multiply-add, so a sample

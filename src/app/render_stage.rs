@@ -10,13 +10,23 @@
 //! its frames are drawn after it exactly as they would have been while it
 //! ran (`tests/render_streaming.rs` checks both give the same files).
 //!
-//! Either way the stage hands out, in frame order, the cost of every frame
-//! completely written ([`FrameCost`]), for `stats.csv` and `--profile`.
+//! Either way the renderer's device, pipelines and buffers, which need no
+//! frame, are made on a thread of their own from the moment the stage is
+//! made, and a throwaway frame is drawn with them
+//! ([`Renderer::prepare`], [`PreparedRenderer::warmed_up`]), so that they
+//! are ready, or nearly, when the first frame is: while the simulation runs,
+//! a core it does not use builds them and llvmpipe compiles their shaders
+//! (about 0.2 s for the default scene).
+//!
+//! The stage hands out, in frame order, the cost of every frame completely
+//! written ([`FrameCost`]), for `stats.csv` and `--profile`.
 
 use super::progress::{Progress, ProgressMode};
 use crate::render::{
-    FrameCost, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, SequenceWriter,
+    FrameCost, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
+    RenderSettings, Renderer, SequenceWriter,
 };
+use std::thread::JoinHandle;
 
 /// The renderer's side of a run.
 pub struct RenderStage {
@@ -24,6 +34,8 @@ pub struct RenderStage {
     mesh: RenderMesh,
     outputs: RenderOutputs,
     frame_count: usize,
+    /// The renderer being prepared, until the first frame is drawn.
+    preparing: Option<JoinHandle<Result<PreparedRenderer, RenderError>>>,
     pending: Pending,
 }
 
@@ -49,12 +61,33 @@ impl RenderStage {
         } else {
             Pending::Streaming(None)
         };
+        let preparing = {
+            let (settings, mesh) = (settings.clone(), mesh.clone());
+            std::thread::spawn(move || {
+                Renderer::prepare(&settings, &mesh).and_then(PreparedRenderer::warmed_up)
+            })
+        };
         Self {
             settings,
             mesh,
             outputs,
             frame_count,
+            preparing: Some(preparing),
             pending,
+        }
+    }
+
+    /// The renderer prepared on its thread (waiting for it if need be).
+    fn prepared(
+        preparing: &mut Option<JoinHandle<Result<PreparedRenderer, RenderError>>>,
+        settings: &RenderSettings,
+        mesh: &RenderMesh,
+    ) -> Result<PreparedRenderer, RenderError> {
+        match preparing.take() {
+            Some(thread) => thread
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+            None => Renderer::prepare(settings, mesh),
         }
     }
 
@@ -70,13 +103,16 @@ impl RenderStage {
             Pending::Streaming(writer) => {
                 let writer = match writer {
                     Some(writer) => writer,
-                    None => writer.insert(Box::new(SequenceWriter::create(
-                        &self.settings,
-                        &self.mesh,
-                        self.frame_count,
-                        std::slice::from_ref(&frame),
-                        &self.outputs,
-                    )?)),
+                    None => {
+                        let prepared =
+                            Self::prepared(&mut self.preparing, &self.settings, &self.mesh)?;
+                        writer.insert(Box::new(SequenceWriter::create_prepared(
+                            prepared,
+                            self.frame_count,
+                            std::slice::from_ref(&frame),
+                            &self.outputs,
+                        )?))
+                    }
                 };
                 writer.push(&frame)?;
             }
@@ -98,7 +134,7 @@ impl RenderStage {
     /// the costs of the frames [`RenderStage::take_costs`] did not hand out,
     /// in frame order, as they are written.
     pub fn finish(
-        self,
+        mut self,
         progress_mode: ProgressMode,
         written: &mut dyn FnMut(Vec<FrameCost>),
     ) -> Result<(), RenderError> {
@@ -112,9 +148,9 @@ impl RenderStage {
             )),
             Pending::Deferred(frames) => {
                 let mut progress = Progress::start(progress_mode, "render", frames.len());
-                let mut writer = SequenceWriter::create(
-                    &self.settings,
-                    &self.mesh,
+                let prepared = Self::prepared(&mut self.preparing, &self.settings, &self.mesh)?;
+                let mut writer = SequenceWriter::create_prepared(
+                    prepared,
                     frames.len(),
                     &frames,
                     &self.outputs,

@@ -35,7 +35,14 @@ pub fn frame_file_name(index: usize, frame_count: usize) -> String {
 /// sRGB chunk, as the frames of a run are written: under a hidden temporary
 /// name first, renamed to `path` once complete.
 pub fn write_png(path: &Path, image: &RgbaImage) -> Result<(), RenderError> {
-    FramePngWriter::default().write(path, &FrameImage::from(image.clone()))
+    write_frame_png(path, &FrameImage::from(image.clone()))
+}
+
+/// [`write_png`] for a rendered frame, as a run writes it: a 2D frame over
+/// its run's base compresses only the rows its patch crosses (the base's
+/// rows are compressed once, by the first frame written).
+pub fn write_frame_png(path: &Path, frame: &FrameImage) -> Result<(), RenderError> {
+    FramePngWriter::default().write(path, frame)
 }
 
 #[cfg(test)]

@@ -384,7 +384,7 @@ mod tests {
             Some(PixelRect {
                 x: 0,
                 y: 0,
-                width: width,
+                width,
                 height: 1,
             }),
             Some(PixelRect {
@@ -396,8 +396,8 @@ mod tests {
             Some(PixelRect {
                 x: 0,
                 y: 0,
-                width: width,
-                height: height,
+                width,
+                height,
             }),
             Some(PixelRect {
                 x: 30,

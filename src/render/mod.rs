@@ -47,13 +47,13 @@ mod text;
 mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
-pub use export::{check_video_support, frame_file_name, write_png};
+pub use export::{check_video_support, frame_file_name, write_frame_png, write_png};
 pub use frame_image::FrameImage;
 pub use gpu::{adapter_description, max_image_size};
 pub use image_video::write_image_video;
 pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
 pub use partial_file::remove_partial_files;
-pub use renderer::{FrameTimings, Renderer};
+pub use renderer::{FrameTimings, PreparedRenderer, Renderer};
 pub use sequence::{FrameCost, SequenceWriter, render_sequence};
 pub use text::{FONT_BYTES, draw_text, text_width};
 pub use video::file_name as video_file_name;

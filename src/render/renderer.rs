@@ -78,6 +78,97 @@ struct Backdrop {
     tiles: BodyTiles,
 }
 
+/// The part of a [`Renderer`] that needs no frames: the device and the
+/// run's pipelines, buffers and render targets. [`Renderer::prepare`] makes
+/// it, on any thread (a run makes it while it simulates), and
+/// [`PreparedRenderer::with_frames`] completes it.
+pub struct PreparedRenderer {
+    gpu: Arc<Gpu>,
+    settings: RenderSettings,
+    mesh: RenderMesh,
+    resources: GpuResources,
+}
+
+impl PreparedRenderer {
+    /// The settings it was prepared for.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    /// Draws one throwaway frame through the run's own pipelines, so that a
+    /// software rasteriser compiles its shaders now rather than when the
+    /// first real frame is drawn (llvmpipe compiles each pipeline's shader
+    /// variants at its first draw: about 0.2 s for a 2D run, the backdrop's
+    /// pass and the tile's). The frame puts the mesh's vertices on a small
+    /// lattice; nothing of it is kept.
+    pub fn warmed_up(self) -> Result<Self, RenderError> {
+        let vertex_count = self
+            .mesh
+            .triangles
+            .iter()
+            .flatten()
+            .chain(self.mesh.edges.iter().flatten())
+            .max()
+            .map_or(1, |&v| v as usize + 1);
+        let depth = if self.mesh.dimension == 3 { 1.0 } else { 0.0 };
+        let throwaway = RenderFrame {
+            positions: (0..vertex_count)
+                .map(|i| [(i % 7) as f32, (i % 5) as f32, (i % 3) as f32 * depth])
+                .collect(),
+            element_values: vec![0.0; self.mesh.element_count],
+        };
+        let mut renderer = self.with_frames(std::slice::from_ref(&throwaway))?;
+        renderer.render_timed(&throwaway)?;
+        Ok(PreparedRenderer {
+            gpu: renderer.gpu,
+            settings: renderer.settings,
+            mesh: renderer.mesh,
+            resources: renderer.resources,
+        })
+    }
+
+    /// The renderer for a run of `frames` (see [`Renderer::new`]).
+    pub fn with_frames(self, frames: &[RenderFrame]) -> Result<Renderer, RenderError> {
+        let shape = FrameShape::of_run(&self.settings, &self.mesh, frames)?;
+        self.complete(shape, frames)
+    }
+
+    /// The renderer for a run of `frames`, of `shape` (checked).
+    fn complete(self, shape: FrameShape, frames: &[RenderFrame]) -> Result<Renderer, RenderError> {
+        let PreparedRenderer {
+            gpu,
+            settings,
+            mesh,
+            resources,
+        } = self;
+        let look = Look::new(&settings, &mesh, frames)?;
+        let mut renderer = Renderer {
+            gpu,
+            shape,
+            look,
+            resources,
+            surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
+            line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
+            colour_scratch: Vec::with_capacity(mesh.element_count),
+            backdrop: None,
+            settings,
+            mesh,
+        };
+        if renderer.mesh.dimension == 2 {
+            let image = renderer.draw_backdrop()?;
+            let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &image)?;
+            let mut base = image.clone();
+            renderer.look.draw_overlay(&mut base);
+            renderer.backdrop = Some(Backdrop {
+                image,
+                base: FrameBase::new(base),
+                tiles,
+            });
+        }
+        Ok(renderer)
+    }
+}
+
 impl Renderer {
     /// Prepares to draw `mesh`. The automatic camera frames all of `frames`
     /// and the automatic colour range spans all of them, so neither changes
@@ -91,7 +182,17 @@ impl Renderer {
         mesh: &RenderMesh,
         frames: &[RenderFrame],
     ) -> Result<Renderer, RenderError> {
+        // Bad frames are reported before the device is opened.
         let shape = FrameShape::of_run(settings, mesh, frames)?;
+        Self::prepare(settings, mesh)?.complete(shape, frames)
+    }
+
+    /// Opens the device and makes what drawing `mesh` with `settings` needs
+    /// before any frame is known.
+    pub fn prepare(
+        settings: &RenderSettings,
+        mesh: &RenderMesh,
+    ) -> Result<PreparedRenderer, RenderError> {
         let gpu = shared_gpu()?;
         if settings.width > gpu.max_texture_side || settings.height > gpu.max_texture_side {
             return Err(RenderError::ImageTooLarge {
@@ -100,32 +201,13 @@ impl Renderer {
                 max: gpu.max_texture_side,
             });
         }
-        let look = Look::new(settings, mesh, frames)?;
         let resources = GpuResources::new(&gpu, settings, mesh)?;
-        let mut renderer = Renderer {
+        Ok(PreparedRenderer {
             gpu,
             settings: settings.clone(),
             mesh: mesh.clone(),
-            shape,
-            look,
             resources,
-            surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
-            line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
-            colour_scratch: Vec::with_capacity(mesh.element_count),
-            backdrop: None,
-        };
-        if mesh.dimension == 2 {
-            let image = renderer.draw_backdrop()?;
-            let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &image)?;
-            let mut base = image.clone();
-            renderer.look.draw_overlay(&mut base);
-            renderer.backdrop = Some(Backdrop {
-                image,
-                base: FrameBase::new(base),
-                tiles,
-            });
-        }
-        Ok(renderer)
+        })
     }
 
     /// The adapter this renderer draws with (name, backend, driver, type).
@@ -136,6 +218,11 @@ impl Renderer {
     /// The colour range, fixed for the run (for the legend or a caption).
     pub fn colour_range(&self) -> [f32; 2] {
         self.look.range()
+    }
+
+    /// The settings it draws with.
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
     }
 
     /// Image width and height in pixels.

@@ -28,8 +28,8 @@ use super::frame_png::FramePngWriter;
 use super::partial_file::PartialFile;
 use super::video::{self, VideoSpec, VideoWriter};
 use super::{
-    FrameTimings, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, Renderer,
-    VideoFormat,
+    FrameTimings, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
+    RenderSettings, Renderer, VideoFormat,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use std::path::Path;
@@ -104,22 +104,30 @@ impl SequenceWriter {
         known_frames: &[RenderFrame],
         outputs: &RenderOutputs,
     ) -> Result<Self, RenderError> {
-        check_video_support(&outputs.videos)?;
-        let fps_valid = outputs.fps > 0.0 && outputs.fps.is_finite();
-        if !outputs.videos.is_empty() && !fps_valid {
-            return Err(RenderError::InvalidInput(format!(
-                "video frame rate {} must be positive",
-                outputs.fps
-            )));
-        }
-        if settings.needs_whole_run() && known_frames.len() != frame_count {
-            return Err(RenderError::InvalidInput(format!(
-                "the automatic camera or colour range needs all {frame_count} frames up front, \
-                 got {}",
-                known_frames.len()
-            )));
-        }
+        check_request(settings, frame_count, known_frames, outputs)?;
         let renderer = Renderer::new(settings, mesh, known_frames)?;
+        Self::start(renderer, frame_count, outputs)
+    }
+
+    /// [`SequenceWriter::create`] with a renderer prepared beforehand (see
+    /// [`Renderer::prepare`]).
+    pub fn create_prepared(
+        prepared: PreparedRenderer,
+        frame_count: usize,
+        known_frames: &[RenderFrame],
+        outputs: &RenderOutputs,
+    ) -> Result<Self, RenderError> {
+        check_request(prepared.settings(), frame_count, known_frames, outputs)?;
+        let renderer = prepared.with_frames(known_frames)?;
+        Self::start(renderer, frame_count, outputs)
+    }
+
+    /// Starts the encoders of a run drawn by `renderer`.
+    fn start(
+        renderer: Renderer,
+        frame_count: usize,
+        outputs: &RenderOutputs,
+    ) -> Result<Self, RenderError> {
         create_dir(&outputs.frames_dir)?;
         if !outputs.videos.is_empty() {
             create_dir(&outputs.video_dir)?;
@@ -141,7 +149,7 @@ impl SequenceWriter {
                 height,
                 frame_count,
                 fps: outputs.fps,
-                background: linear_to_srgb8(settings.background),
+                background: linear_to_srgb8(renderer.settings().background),
             };
             // A failure here drops the threads started so far, which removes their files.
             let partial = PartialFile::new(&path)?;
@@ -343,6 +351,32 @@ impl SequenceWriter {
             message: "an output thread stopped without an error".into(),
         }
     }
+}
+
+/// Checks what a run asks for before any work: the videos can be written,
+/// their frame rate is valid, and an automatic camera or colour range has the
+/// whole run.
+fn check_request(
+    settings: &RenderSettings,
+    frame_count: usize,
+    known_frames: &[RenderFrame],
+    outputs: &RenderOutputs,
+) -> Result<(), RenderError> {
+    check_video_support(&outputs.videos)?;
+    let fps_valid = outputs.fps > 0.0 && outputs.fps.is_finite();
+    if !outputs.videos.is_empty() && !fps_valid {
+        return Err(RenderError::InvalidInput(format!(
+            "video frame rate {} must be positive",
+            outputs.fps
+        )));
+    }
+    if settings.needs_whole_run() && known_frames.len() != frame_count {
+        return Err(RenderError::InvalidInput(format!(
+            "the automatic camera or colour range needs all {frame_count} frames up front, got {}",
+            known_frames.len()
+        )));
+    }
+    Ok(())
 }
 
 impl Drop for SequenceWriter {
