@@ -34,6 +34,16 @@ pub(crate) struct PixelRect {
 }
 
 impl PixelRect {
+    /// `[x, x + width) × [y, y + height)`.
+    pub const fn new(x: u32, y: u32, width: u32, height: u32) -> Self {
+        PixelRect {
+            x,
+            y,
+            width,
+            height,
+        }
+    }
+
     /// The rows it covers.
     pub fn rows(&self) -> Range<u32> {
         self.y..self.y + self.height
@@ -272,20 +282,23 @@ pub(crate) fn push_rgb(rgba: &[u8], rgb: &mut Vec<u8>) {
     }
 }
 
+/// A deterministic opaque noise image (xorshift), for tests of code that
+/// moves pixels: no two neighbours are alike by chance.
+#[cfg(test)]
+pub(crate) fn noise(width: u32, height: u32, seed: u32) -> RgbaImage {
+    let mut state = seed.wrapping_mul(2_654_435_761) | 1;
+    RgbaImage::from_fn(width, height, |_, _| {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        let [r, g, b, _] = state.to_le_bytes();
+        image::Rgba([r, g, b, 255])
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn noise(width: u32, height: u32, seed: u32) -> RgbaImage {
-        let mut state = seed.wrapping_mul(2_654_435_761) | 1;
-        RgbaImage::from_fn(width, height, |_, _| {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            let [r, g, b, _] = state.to_le_bytes();
-            image::Rgba([r, g, b, 255])
-        })
-    }
 
     /// The base with `rect` taken from `over`.
     fn composed(base: &RgbaImage, over: &RgbaImage, rect: PixelRect) -> RgbaImage {
@@ -313,30 +326,10 @@ mod tests {
         let (base, over) = (noise(37, 23, 1), noise(37, 23, 2));
         let shared = FrameBase::new(base.clone());
         let rects = [
-            PixelRect {
-                x: 5,
-                y: 3,
-                width: 9,
-                height: 7,
-            },
-            PixelRect {
-                x: 0,
-                y: 0,
-                width: 37,
-                height: 23,
-            },
-            PixelRect {
-                x: 36,
-                y: 22,
-                width: 1,
-                height: 1,
-            },
-            PixelRect {
-                x: 0,
-                y: 10,
-                width: 1,
-                height: 13,
-            },
+            PixelRect::new(5, 3, 9, 7),
+            PixelRect::new(0, 0, 37, 23),
+            PixelRect::new(36, 22, 1, 1),
+            PixelRect::new(0, 10, 1, 13),
         ];
         for rect in rects {
             let patch = Patch::cut(&over, rect);
@@ -349,30 +342,10 @@ mod tests {
             assert_eq!(frame.over_base().unwrap().1, Some(rect));
             // Any rectangle's RGB, across and around the patch.
             for probe in [
-                PixelRect {
-                    x: 0,
-                    y: 0,
-                    width: 37,
-                    height: 23,
-                },
-                PixelRect {
-                    x: 4,
-                    y: 2,
-                    width: 11,
-                    height: 9,
-                },
-                PixelRect {
-                    x: 7,
-                    y: 5,
-                    width: 3,
-                    height: 2,
-                },
-                PixelRect {
-                    x: 20,
-                    y: 15,
-                    width: 17,
-                    height: 8,
-                },
+                PixelRect::new(0, 0, 37, 23),
+                PixelRect::new(4, 2, 11, 9),
+                PixelRect::new(7, 5, 3, 2),
+                PixelRect::new(20, 15, 17, 8),
             ] {
                 let mut rgb = Vec::new();
                 frame.push_rgb_rect(probe, &mut rgb);
@@ -390,12 +363,7 @@ mod tests {
         let frame = FrameImage::from(image.clone());
         assert!(frame.to_rgba() == image);
         assert!(frame.over_base().is_none());
-        let probe = PixelRect {
-            x: 2,
-            y: 1,
-            width: 5,
-            height: 3,
-        };
+        let probe = PixelRect::new(2, 1, 5, 3);
         let mut rgb = Vec::new();
         frame.push_rgb_rect(probe, &mut rgb);
         assert_eq!(rgb, rgb_of(&image, probe));
@@ -410,34 +378,11 @@ mod tests {
 
     #[test]
     fn rectangles_unite_and_intersect() {
-        let a = PixelRect {
-            x: 2,
-            y: 3,
-            width: 4,
-            height: 5,
-        };
-        let b = PixelRect {
-            x: 6,
-            y: 1,
-            width: 2,
-            height: 2,
-        };
-        assert_eq!(
-            a.union(&b),
-            PixelRect {
-                x: 2,
-                y: 1,
-                width: 6,
-                height: 7
-            }
-        );
+        let a = PixelRect::new(2, 3, 4, 5);
+        let b = PixelRect::new(6, 1, 2, 2);
+        assert_eq!(a.union(&b), PixelRect::new(2, 1, 6, 7));
         assert!(!a.intersects(&b), "touching edges share no pixel");
-        let c = PixelRect {
-            x: 5,
-            y: 7,
-            width: 3,
-            height: 3,
-        };
+        let c = PixelRect::new(5, 7, 3, 3);
         assert!(a.intersects(&c) && c.intersects(&a));
         assert_eq!(a.rows(), 3..8);
     }

@@ -188,13 +188,7 @@ impl FramePngWriter {
             }
             None => {
                 self.rgb.clear();
-                let whole = PixelRect {
-                    x: 0,
-                    y: 0,
-                    width,
-                    height,
-                };
-                frame.push_rgb_rect(whole, &mut self.rgb);
+                frame.push_rgb_rect(PixelRect::new(0, 0, width, height), &mut self.rgb);
                 writer.write_image_data(&self.rgb).map_err(encode_error)?;
             }
         }
@@ -322,18 +316,7 @@ fn deflate_segment<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::frame_image::{FrameBase, Patch};
-
-    fn noise(width: u32, height: u32, seed: u32) -> RgbaImage {
-        let mut state = seed.wrapping_mul(2_654_435_761) | 1;
-        RgbaImage::from_fn(width, height, |_, _| {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            let [r, g, b, _] = state.to_le_bytes();
-            image::Rgba([r, g, b, 255])
-        })
-    }
+    use crate::render::frame_image::{FrameBase, Patch, noise};
 
     /// A base like a 2D backdrop: flat colour, a hatched band, noise in a corner.
     fn backdrop(width: u32, height: u32) -> RgbaImage {
@@ -375,36 +358,11 @@ mod tests {
         let mut writer = FramePngWriter::default();
         let patches = [
             None,
-            Some(PixelRect {
-                x: 10,
-                y: 12,
-                width: 20,
-                height: 9,
-            }),
-            Some(PixelRect {
-                x: 0,
-                y: 0,
-                width,
-                height: 1,
-            }),
-            Some(PixelRect {
-                x: 60,
-                y: 46,
-                width: 1,
-                height: 1,
-            }),
-            Some(PixelRect {
-                x: 0,
-                y: 0,
-                width,
-                height,
-            }),
-            Some(PixelRect {
-                x: 30,
-                y: 20,
-                width: 31,
-                height: 27,
-            }),
+            Some(PixelRect::new(10, 12, 20, 9)),
+            Some(PixelRect::new(0, 0, width, 1)),
+            Some(PixelRect::new(60, 46, 1, 1)),
+            Some(PixelRect::new(0, 0, width, height)),
+            Some(PixelRect::new(30, 20, 31, 27)),
         ];
         for (i, rect) in patches.into_iter().enumerate() {
             let patch = rect.map(|rect| Patch::cut(&body, rect));

@@ -139,12 +139,7 @@ impl ApngWriter {
     /// previous frame, or the whole image.
     fn region(&self, frame: &FrameImage) -> PixelRect {
         let (width, height) = self.size;
-        let whole = PixelRect {
-            x: 0,
-            y: 0,
-            width,
-            height,
-        };
+        let whole = PixelRect::new(0, 0, width, height);
         match (&self.previous, frame.over_base()) {
             (Some((previous_base, before)), Some((base, now)))
                 if Arc::ptr_eq(previous_base, base) =>
@@ -153,11 +148,7 @@ impl ApngWriter {
                     (Some(before), Some(now)) => before.union(&now),
                     (Some(only), None) | (None, Some(only)) => only,
                     // The same image again: one pixel, unchanged.
-                    (None, None) => PixelRect {
-                        width: 1,
-                        height: 1,
-                        ..whole
-                    },
+                    (None, None) => PixelRect::new(0, 0, 1, 1),
                 }
             }
             _ => whole,
@@ -288,6 +279,93 @@ fn gif_error(path: &Path, error: gif::EncodingError) -> RenderError {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::frame_image::{Patch, noise};
+    use image::AnimationDecoder;
+
+    /// Writes `frames` as an APNG and returns the frames a player shows,
+    /// with the size of each stored rectangle.
+    fn through_apng(frames: &[FrameImage]) -> (Vec<image::RgbaImage>, Vec<(u32, u32)>) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("video.png");
+        let (width, height) = frames[0].dimensions();
+        let spec = VideoSpec {
+            path: &path,
+            width,
+            height,
+            frame_count: frames.len(),
+            fps: 25.0,
+            background: [0; 3],
+        };
+        let partial = PartialFile::new(&path).unwrap();
+        let mut writer = open(VideoFormat::Apng, &spec, &partial).unwrap();
+        for frame in frames {
+            writer.push(&Arc::new(frame.clone())).unwrap();
+        }
+        writer.finish().unwrap();
+        partial.publish().unwrap();
+
+        let mut reader = png::Decoder::new(std::io::BufReader::new(File::open(&path).unwrap()))
+            .read_info()
+            .unwrap();
+        let mut buffer = vec![0; reader.output_buffer_size().unwrap()];
+        let mut stored = Vec::new();
+        while let Ok(info) = reader.next_frame(&mut buffer) {
+            stored.push((info.width, info.height));
+        }
+        let decoder =
+            image::codecs::png::PngDecoder::new(std::io::BufReader::new(File::open(&path).unwrap()))
+                .unwrap();
+        let shown = decoder
+            .apng()
+            .unwrap()
+            .into_frames()
+            .map(|frame| frame.unwrap().into_buffer())
+            .collect();
+        (shown, stored)
+    }
+
+    #[test]
+    fn apng_frames_store_what_changed_and_show_whole_frames() {
+        let (width, height) = (40, 30);
+        let base = FrameBase::new(noise(width, height, 1));
+        let other_base = FrameBase::new(noise(width, height, 2));
+        let body = noise(width, height, 3);
+        let over = |base: &Arc<FrameBase>, rect: Option<PixelRect>| {
+            FrameImage::patched(base.clone(), rect.map(|rect| Patch::cut(&body, rect)))
+        };
+        let frames = [
+            over(&base, Some(PixelRect::new(2, 3, 6, 5))),
+            // Moved: the union of both patches.
+            over(&base, Some(PixelRect::new(5, 4, 6, 5))),
+            // Left the image: the last patch's place, back to the base.
+            over(&base, None),
+            // Nothing changed: one pixel.
+            over(&base, None),
+            over(&base, Some(PixelRect::new(30, 20, 10, 10))),
+            // Another base, then a whole image: stored whole.
+            over(&other_base, Some(PixelRect::new(1, 1, 3, 3))),
+            FrameImage::from(noise(width, height, 4)),
+            over(&base, Some(PixelRect::new(0, 0, 1, 1))),
+        ];
+        let (shown, stored) = through_apng(&frames);
+        assert_eq!(
+            stored,
+            [
+                (40, 30),
+                (9, 6),
+                (6, 5),
+                (1, 1),
+                (10, 10),
+                (40, 30),
+                (40, 30),
+                (40, 30)
+            ]
+        );
+        assert_eq!(shown.len(), frames.len());
+        for (i, (shown, frame)) in shown.iter().zip(&frames).enumerate() {
+            assert!(*shown == frame.to_rgba(), "frame {i} shows differently");
+        }
+    }
 
     #[test]
     fn frame_delays_are_exact_fractions() {
