@@ -10,13 +10,13 @@
 //! its frames are drawn after it exactly as they would have been while it
 //! ran (`tests/render_streaming.rs` checks both give the same files).
 //!
-//! Either way the renderer's device, pipelines and buffers, which need no
-//! frame, are made on a thread of their own from the moment the stage is
-//! made, and a throwaway frame is drawn with them
-//! ([`Renderer::prepare`], [`PreparedRenderer::warmed_up`]), so that they
-//! are ready, or nearly, when the first frame is: while the simulation runs,
-//! a core it does not use builds them and llvmpipe compiles their shaders
-//! (about 0.2 s for the default scene).
+//! The renderer's device, pipelines and buffers need no frame: they are made
+//! on a thread of their own from the moment the stage is made
+//! ([`Renderer::prepare`]). For a deferred run a throwaway frame is drawn
+//! with them too ([`PreparedRenderer::warmed_up`]), so that while the
+//! simulation runs, a core it does not use builds them and llvmpipe
+//! compiles their shaders (about 0.2 s for the default scene), and the
+//! first image follows the last step without that wait.
 //!
 //! The stage hands out, in frame order, the cost of every frame completely
 //! written ([`FrameCost`]), for `stats.csv` and `--profile`.
@@ -61,10 +61,18 @@ impl RenderStage {
         } else {
             Pending::Streaming(None)
         };
+        // A streamed run draws its first frame at once: a throwaway frame
+        // first would only add to it.
+        let warm_up = matches!(pending, Pending::Deferred(_));
         let preparing = {
             let (settings, mesh) = (settings.clone(), mesh.clone());
             std::thread::spawn(move || {
-                Renderer::prepare(&settings, &mesh).and_then(PreparedRenderer::warmed_up)
+                let prepared = Renderer::prepare(&settings, &mesh);
+                if warm_up {
+                    prepared.and_then(PreparedRenderer::warmed_up)
+                } else {
+                    prepared
+                }
             })
         };
         Self {

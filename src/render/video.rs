@@ -312,9 +312,10 @@ mod tests {
         while let Ok(info) = reader.next_frame(&mut buffer) {
             stored.push((info.width, info.height));
         }
-        let decoder =
-            image::codecs::png::PngDecoder::new(std::io::BufReader::new(File::open(&path).unwrap()))
-                .unwrap();
+        let decoder = image::codecs::png::PngDecoder::new(std::io::BufReader::new(
+            File::open(&path).unwrap(),
+        ))
+        .unwrap();
         let shown = decoder
             .apng()
             .unwrap()
