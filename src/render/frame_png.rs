@@ -85,8 +85,9 @@ pub(crate) struct CompressedRows {
     filtered: Vec<u8>,
     /// Every row's compressed bytes, one after the other.
     deflated: Vec<u8>,
-    /// Per row: where its compressed bytes end in `deflated`.
-    ends: Vec<usize>,
+    /// Where each row's compressed bytes start in `deflated`, and the end
+    /// of the last (`H + 1` offsets): rows `a..b` are `offsets[a]..offsets[b]`.
+    offsets: Vec<usize>,
     /// Per row: the Adler-32 of its filtered bytes.
     adlers: Vec<u32>,
     /// Filtered bytes per row: the filter type and `3W`.
@@ -103,11 +104,12 @@ impl CompressedRows {
         let mut rows = CompressedRows {
             filtered: Vec::with_capacity(height * row_len),
             deflated: Vec::new(),
-            ends: Vec::with_capacity(height),
+            offsets: Vec::with_capacity(height + 1),
             adlers: Vec::with_capacity(height),
             row_len,
         };
         let mut output = Vec::new();
+        rows.offsets.push(0);
         for row in image.as_raw().chunks_exact(image.width() as usize * 4) {
             rgb.clear();
             push_rgb(row, &mut rgb);
@@ -117,7 +119,7 @@ impl CompressedRows {
             rows.adlers.push(adler32(1, filtered));
             let compressed = deflate_segment(&mut deflate, filtered, &mut output)?;
             rows.deflated.extend_from_slice(compressed);
-            rows.ends.push(rows.deflated.len());
+            rows.offsets.push(rows.deflated.len());
         }
         Ok(rows)
     }
@@ -129,17 +131,7 @@ impl CompressedRows {
 
     /// The compressed bytes of `rows`, one after the other.
     fn segment(&self, rows: std::ops::Range<usize>) -> &[u8] {
-        let start = if rows.start == 0 {
-            0
-        } else {
-            self.ends[rows.start - 1]
-        };
-        let end = if rows.is_empty() {
-            start
-        } else {
-            self.ends[rows.end - 1]
-        };
-        &self.deflated[start..end]
+        &self.deflated[self.offsets[rows.start]..self.offsets[rows.end]]
     }
 }
 
@@ -204,7 +196,7 @@ impl FramePngWriter {
         rows: &CompressedRows,
         changed: Option<PixelRect>,
     ) -> Result<(), String> {
-        let height = rows.ends.len();
+        let height = rows.adlers.len();
         let band = changed.map_or(height..height, |rect| {
             rect.y as usize..(rect.y + rect.height) as usize
         });
