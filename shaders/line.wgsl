@@ -59,3 +59,61 @@ fn vs_main(@builtin(vertex_index) index: u32, line: LineIn) -> VsOut {
 fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     return in.colour;
 }
+
+// 2D body tiles draw without multisampling (body2d.wgsl): the same segment
+// as a quad one pixel larger all round, each pixel covered by the share of
+// it the segment's rectangle (square caps included) covers. Per axis of the
+// segment the share is the overlap of the pixel's span [x − 1/2, x + 1/2]
+// with the rectangle's [−h, h], exact for segments along the pixel grid.
+
+struct CoverageOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) colour: vec4<f32>,
+    // The pixel's centre from the segment's midpoint, along and across it, in pixels.
+    @location(1) @interpolate(linear) local: vec2<f32>,
+    // Half the rectangle's extent along (length and caps) and across, in pixels.
+    @location(2) @interpolate(flat) half_extent: vec2<f32>,
+};
+
+@vertex
+fn vs_coverage(@builtin(vertex_index) index: u32, line: LineIn) -> CoverageOut {
+    // (end?, side) per corner of the two triangles.
+    var corners = array<vec2<f32>, 6>(
+        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
+        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(0.0, 1.0),
+    );
+    let corner = corners[index];
+    let a = pulled(line.start);
+    let b = pulled(line.end);
+    let half_size = 0.5 * g.viewport.xy;
+    let pa = a.xy / a.w * half_size;
+    let pb = b.xy / b.w * half_size;
+    let delta = pb - pa;
+    let length_px = length(delta);
+    var direction = vec2<f32>(1.0, 0.0);
+    if length_px > 1e-6 {
+        direction = delta / length_px;
+    }
+    let normal = vec2<f32>(-direction.y, direction.x);
+    let half_width = 0.5 * line.width;
+    let half_extent = vec2<f32>(0.5 * length_px + half_width, half_width);
+    let local = vec2<f32>(corner.x * 2.0 - 1.0, corner.y) * (half_extent + 1.0);
+    let p = 0.5 * (pa + pb) + direction * local.x + normal * local.y;
+    var out: CoverageOut;
+    out.clip = to_tile(vec4<f32>(p / half_size * a.w, a.zw));
+    out.colour = line.colour;
+    out.local = local;
+    out.half_extent = half_extent;
+    return out;
+}
+
+// The length of [x − 1/2, x + 1/2] ∩ [−h, h].
+fn overlap(h: f32, x: f32) -> f32 {
+    return clamp(min(h, x + 0.5) - max(-h, x - 0.5), 0.0, 1.0);
+}
+
+@fragment
+fn fs_coverage(in: CoverageOut) -> @location(0) vec4<f32> {
+    let coverage = overlap(in.half_extent.x, in.local.x) * overlap(in.half_extent.y, in.local.y);
+    return vec4<f32>(in.colour.rgb, in.colour.a * coverage);
+}

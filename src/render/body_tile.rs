@@ -35,55 +35,44 @@ use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
-    COLOR_FORMAT, Globals, GpuResources, LineInstance, SurfaceVertex, padded_row_bytes,
-    resolved_colour_attachment,
+    COLOR_FORMAT, Globals, GpuResources, padded_row_bytes, resolved_colour_attachment,
 };
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
 
 /// Tile targets grow in steps of this many pixels per side.
 const CAPACITY_STEP: u32 = 64;
-/// Pixels around the body's vertices and edge lines that the tile also holds.
+/// Pixels around the body's vertices and edge lines' caps that the tile
+/// also holds: the lines' coverage quads reach one pixel further (and the
+/// fringes under one pixel), so two leave room for rounding.
 const MARGIN_PIXELS: f32 = 2.0;
 
 /// The pixels a 2D frame's body can touch in a `width × height` image:
-/// every surface vertex and both ends of every edge line (with its square
-/// caps), projected by `view_proj`, plus a margin. `None` when the body is
-/// entirely outside the image; the whole image when a position does not
-/// project to a finite pixel.
+/// every vertex at `positions`, projected by `view_proj`, with the reach of
+/// an edge line `line_width` pixels wide (its square caps and the pixel its
+/// coverage quad adds) and a margin. `None` when the body is entirely
+/// outside the image; the whole image when a position does not project to
+/// a finite pixel.
 pub(super) fn body_rect(
     view_proj: &Matrix4<f32>,
-    surface: &[SurfaceVertex],
-    lines: &[LineInstance],
+    positions: &[[f32; 3]],
+    line_width: f32,
     width: u32,
     height: u32,
 ) -> Option<PixelRect> {
     let (w, h) = (width as f32, height as f32);
-    let pixel = |p: [f32; 3]| {
-        let clip = view_proj * Vector4::new(p[0], p[1], p[2], 1.0);
-        [
+    // A square cap reaches half the width along and across the line.
+    let reach = line_width * std::f32::consts::FRAC_1_SQRT_2 + MARGIN_PIXELS;
+    let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
+    for position in positions {
+        let clip = view_proj * Vector4::new(position[0], position[1], position[2], 1.0);
+        let p = [
             (clip.x / clip.w + 1.0) * 0.5 * w,
             (1.0 - clip.y / clip.w) * 0.5 * h,
-        ]
-    };
-    let corners = surface.iter().map(|v| (v.position, 0.0)).chain(
-        lines
-            .iter()
-            .flat_map(|l| [(l.start, l.width), (l.end, l.width)]),
-    );
-    let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
-    for (position, line_width) in corners {
-        let p = pixel(position);
+        ];
         if !p.iter().all(|c| c.is_finite()) {
-            return Some(PixelRect {
-                x: 0,
-                y: 0,
-                width,
-                height,
-            });
+            return Some(PixelRect::new(0, 0, width, height));
         }
-        // A square cap reaches half the width along and across the line.
-        let reach = line_width * std::f32::consts::FRAC_1_SQRT_2 + MARGIN_PIXELS;
         for axis in 0..2 {
             lo[axis] = lo[axis].min(p[axis] - reach);
             hi[axis] = hi[axis].max(p[axis] + reach);
@@ -95,12 +84,7 @@ pub(super) fn body_rect(
     let clamp = |c: f32, size: u32| c.clamp(0.0, size as f32) as u32;
     let (x0, x1) = (clamp(lo[0].floor(), width), clamp(hi[0].ceil(), width));
     let (y0, y1) = (clamp(lo[1].floor(), height), clamp(hi[1].ceil(), height));
-    (x1 > x0 && y1 > y0).then_some(PixelRect {
-        x: x0,
-        y: y0,
-        width: x1 - x0,
-        height: y1 - y0,
-    })
+    (x1 > x0 && y1 > y0).then_some(PixelRect::new(x0, y0, x1 - x0, y1 - y0))
 }
 
 /// `tile` and `tile_origin` of the uniforms for drawing `rect` of a
@@ -124,48 +108,32 @@ pub(super) fn tile_transform(
     (tile.map(|c| c as f32), [x0 as f32, y0 as f32, 0.0, 0.0])
 }
 
-/// The multisampled and resolved tile targets and their readback buffer.
+/// The tile target (one sample per pixel) and its readback buffer.
 struct TileTarget {
     capacity: (u32, u32),
-    msaa_view: Option<wgpu::TextureView>,
-    resolved: wgpu::Texture,
-    resolved_view: wgpu::TextureView,
+    texture: wgpu::Texture,
+    view: wgpu::TextureView,
     readback: wgpu::Buffer,
 }
 
 impl TileTarget {
     fn new(gpu: &Gpu, capacity: (u32, u32)) -> Self {
         let device = &gpu.device;
-        let texture = |label, sample_count, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: capacity.0,
-                    height: capacity.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count,
-                dimension: wgpu::TextureDimension::D2,
-                format: COLOR_FORMAT,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let msaa_view = (gpu.sample_count > 1).then(|| {
-            texture(
-                "multisampled tile target",
-                gpu.sample_count,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&Default::default())
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("tile target"),
+            size: wgpu::Extent3d {
+                width: capacity.0,
+                height: capacity.1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: COLOR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
         });
-        let resolved = texture(
-            "resolved tile target",
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        );
-        let resolved_view = resolved.create_view(&Default::default());
+        let view = texture.create_view(&Default::default());
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("tile readback buffer"),
             size: u64::from(padded_row_bytes(capacity.0)) * u64::from(capacity.1),
@@ -174,9 +142,8 @@ impl TileTarget {
         });
         TileTarget {
             capacity,
-            msaa_view,
-            resolved,
-            resolved_view,
+            texture,
+            view,
             readback,
         }
     }
@@ -187,7 +154,9 @@ impl TileTarget {
 pub(super) struct TileInputs<'a> {
     pub resources: &'a GpuResources,
     pub globals: &'a Globals,
-    pub surface_vertices: u32,
+    /// The number of body vertices (three per triangle).
+    pub body_vertices: u32,
+    pub fringes: u32,
     /// The instance range of the body's edge lines.
     pub body_lines: std::ops::Range<u32>,
 }
@@ -209,10 +178,10 @@ impl BodyTiles {
         resources: &GpuResources,
         backdrop: &RgbaImage,
     ) -> Result<Self, RenderError> {
-        let Some((_, layout)) = &resources.backdrop else {
+        let Some(tile) = &resources.tile else {
             return Err(RenderError::Gpu {
                 during: "preparing the 2D backdrop",
-                message: "the renderer has no backdrop pipeline (3D mesh)".into(),
+                message: "the renderer has no tile pipelines (3D mesh)".into(),
             });
         };
         let device = &gpu.device;
@@ -245,7 +214,7 @@ impl BodyTiles {
         let view = texture.create_view(&Default::default());
         let backdrop_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("backdrop bind group"),
-            layout,
+            layout: &tile.backdrop_layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: wgpu::BindingResource::TextureView(&view),
@@ -290,7 +259,7 @@ impl BodyTiles {
         }
         let target = self.target.as_ref().expect("a tile target was just made");
         let r = inputs.resources;
-        let (backdrop_pipeline, _) = r.backdrop.as_ref().expect("checked in BodyTiles::new");
+        let tile = r.tile.as_ref().expect("checked in BodyTiles::new");
 
         let mut globals = *inputs.globals;
         (globals.tile, globals.tile_origin) = tile_transform(rect, target.capacity, width, height);
@@ -307,8 +276,8 @@ impl BodyTiles {
                 label: Some("tile pass"),
                 // The backdrop layer covers the whole target: the clear colour never shows.
                 color_attachments: &[Some(resolved_colour_attachment(
-                    target.msaa_view.as_ref(),
-                    &target.resolved_view,
+                    None,
+                    &target.view,
                     wgpu::Color::BLACK,
                 ))],
                 depth_stencil_attachment: None,
@@ -318,15 +287,20 @@ impl BodyTiles {
             });
             pass.set_bind_group(0, &r.bind_group, &[]);
             pass.set_bind_group(1, &self.backdrop_bind_group, &[]);
-            pass.set_pipeline(backdrop_pipeline);
+            pass.set_pipeline(&tile.backdrop);
             pass.draw(0..3, 0..1);
-            if inputs.surface_vertices > 0 {
-                pass.set_pipeline(&r.surface);
-                pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
-                pass.draw(0..inputs.surface_vertices, 0..1);
+            if inputs.body_vertices > 0 {
+                pass.set_pipeline(&tile.surface);
+                pass.set_vertex_buffer(0, tile.body_vertices.slice(..));
+                pass.draw(0..inputs.body_vertices, 0..1);
+            }
+            if inputs.fringes > 0 {
+                pass.set_pipeline(&tile.fringe);
+                pass.set_vertex_buffer(0, tile.fringe_instances.slice(..));
+                pass.draw(0..6, 0..inputs.fringes);
             }
             if !inputs.body_lines.is_empty() {
-                pass.set_pipeline(&r.line);
+                pass.set_pipeline(&tile.line);
                 pass.set_vertex_buffer(0, r.line_instances.slice(..));
                 pass.draw(0..6, inputs.body_lines.clone());
             }
@@ -349,7 +323,7 @@ impl BodyTiles {
         let mut pixels = Vec::with_capacity((rect.width * rect.height * 4) as usize);
         super::renderer::read_texture(
             gpu,
-            &target.resolved,
+            &target.texture,
             &target.readback,
             padded_row_bytes(rect.width),
             (rect.width, rect.height),
@@ -416,50 +390,28 @@ mod tests {
         assert_eq!(tile, Globals::WHOLE_IMAGE);
     }
 
-    fn vertex(x: f32, y: f32) -> SurfaceVertex {
-        SurfaceVertex {
-            position: [x, y, 0.0],
-            normal: [0.0, 0.0, 1.0],
-            colour: [0.5; 3],
-        }
-    }
-
     #[test]
     fn the_body_rect_holds_vertices_and_line_caps_with_a_margin() {
         // Clip = world: pixel x = (x + 1) 50, y = (1 - y) 25 in a 100 x 50 image.
         let identity = Matrix4::identity();
-        let surface = [vertex(-0.5, 0.0), vertex(0.0, 0.5), vertex(0.25, -0.25)];
+        let body = [[-0.5, 0.0, 0.0], [0.0, 0.5, 0.0], [0.25, -0.25, 0.0]];
         // Vertices span pixels x in [25, 62.5], y in [12.5, 31.25].
-        let rect = body_rect(&identity, &surface, &[], 100, 50).unwrap();
-        assert_eq!(
-            rect,
-            PixelRect {
-                x: 23,
-                y: 10,
-                width: 65 - 23,
-                height: 34 - 10
-            }
-        );
-        // A line 4 pixels wide reaches 2 sqrt 2 further, plus the margin.
-        let line = LineInstance {
-            start: [-0.5, 0.0, 0.0],
-            end: [0.25, -0.25, 0.0],
-            colour: [0.0; 4],
-            width: 4.0,
-        };
-        let rect = body_rect(&identity, &surface, &[line], 100, 50).unwrap();
-        assert_eq!((rect.x, rect.y), (20, 10));
+        let rect = body_rect(&identity, &body, 0.0, 100, 50).unwrap();
+        assert_eq!(rect, PixelRect::new(23, 10, 65 - 23, 34 - 10));
+        // Lines 4 pixels wide reach 2 sqrt 2 further, plus the margin.
+        let rect = body_rect(&identity, &body, 4.0, 100, 50).unwrap();
+        assert_eq!((rect.x, rect.y), (20, 7));
         assert_eq!((rect.x + rect.width, rect.y + rect.height), (68, 37));
         // Clamped to the image, and nothing when all of it is outside.
-        let wide = [vertex(-3.0, -3.0), vertex(0.0, 0.0)];
-        let rect = body_rect(&identity, &wide, &[], 100, 50).unwrap();
+        let wide = [[-3.0, -3.0, 0.0], [0.0, 0.0, 0.0]];
+        let rect = body_rect(&identity, &wide, 0.0, 100, 50).unwrap();
         assert_eq!((rect.x, rect.y, rect.width, rect.height), (0, 23, 52, 27));
-        let outside = [vertex(5.0, 5.0), vertex(6.0, 7.0)];
-        assert_eq!(body_rect(&identity, &outside, &[], 100, 50), None);
-        assert_eq!(body_rect(&identity, &[], &[], 100, 50), None);
+        let outside = [[5.0, 5.0, 0.0], [6.0, 7.0, 0.0]];
+        assert_eq!(body_rect(&identity, &outside, 0.0, 100, 50), None);
+        assert_eq!(body_rect(&identity, &[], 0.0, 100, 50), None);
         // A position that projects nowhere gives the whole image.
-        let broken = [vertex(f32::NAN, 0.0), vertex(0.0, 0.0)];
-        let rect = body_rect(&identity, &broken, &[], 100, 50).unwrap();
+        let broken = [[f32::NAN, 0.0, 0.0], [0.0, 0.0, 0.0]];
+        let rect = body_rect(&identity, &broken, 0.0, 100, 50).unwrap();
         assert_eq!((rect.x, rect.y, rect.width, rect.height), (0, 0, 100, 50));
     }
 }

@@ -18,6 +18,7 @@
 //! The uniform and vertex types are `#[repr(C)]` `bytemuck::Pod` and match
 //! the WGSL structs in `shaders/` field for field.
 
+use super::body_coverage::{BodyVertex, FringeInstance};
 use super::gpu::{Gpu, check_scope};
 use super::{RenderError, RenderMesh, RenderSettings};
 use bytemuck::{Pod, Zeroable};
@@ -95,9 +96,8 @@ pub(super) struct GpuResources {
     pub ground: Option<wgpu::RenderPipeline>,
     pub surface: wgpu::RenderPipeline,
     pub line: wgpu::RenderPipeline,
-    /// 2D: the pipeline copying the backdrop texture (bind group 1, laid out
-    /// as the layout here) into a body tile.
-    pub backdrop: Option<(wgpu::RenderPipeline, wgpu::BindGroupLayout)>,
+    /// 2D: what body tiles are drawn with.
+    pub tile: Option<TileResources>,
     pub surface_vertices: wgpu::Buffer,
     pub line_instances: wgpu::Buffer,
     /// Multisampled colour target (`None` without MSAA).
@@ -108,6 +108,22 @@ pub(super) struct GpuResources {
     pub depth_view: Option<wgpu::TextureView>,
     pub readback: wgpu::Buffer,
     pub padded_bytes_per_row: u32,
+}
+
+/// 2D: the single-sampled pipelines and buffers of the body tiles
+/// (`body_tile`), anti-aliased in their shaders (`body_coverage`).
+pub(super) struct TileResources {
+    /// Copies the backdrop texture (bind group 1, laid out as
+    /// `backdrop_layout`) into a tile.
+    pub backdrop: wgpu::RenderPipeline,
+    pub backdrop_layout: wgpu::BindGroupLayout,
+    /// The fringes read the backdrop texture too.
+    pub surface: wgpu::RenderPipeline,
+    pub fringe: wgpu::RenderPipeline,
+    /// The edge lines, from `line_instances`.
+    pub line: wgpu::RenderPipeline,
+    pub body_vertices: wgpu::Buffer,
+    pub fringe_instances: wgpu::Buffer,
 }
 
 impl GpuResources {
@@ -201,51 +217,19 @@ impl GpuResources {
             None,
             DepthTest::Nearest,
         );
+        let line_module = device.create_shader_module(shader!("line"));
+        let line_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<LineInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
+        };
         let line = builder.build(
             "line pipeline",
-            &device.create_shader_module(shader!("line")),
-            &[Some(wgpu::VertexBufferLayout {
-                array_stride: std::mem::size_of::<LineInstance>() as u64,
-                step_mode: wgpu::VertexStepMode::Instance,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32],
-            })],
+            &line_module,
+            &[Some(line_layout.clone())],
             Some(wgpu::BlendState::ALPHA_BLENDING),
             DepthTest::Nearest,
         );
-
-        let backdrop = (mesh.dimension == 2).then(|| {
-            let texture_layout =
-                device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("backdrop bind group layout"),
-                    entries: &[wgpu::BindGroupLayoutEntry {
-                        binding: 0,
-                        visibility: wgpu::ShaderStages::FRAGMENT,
-                        ty: wgpu::BindingType::Texture {
-                            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                            view_dimension: wgpu::TextureViewDimension::D2,
-                            multisampled: false,
-                        },
-                        count: None,
-                    }],
-                });
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("backdrop pipeline layout"),
-                bind_group_layouts: &[Some(&bind_group_layout), Some(&texture_layout)],
-                immediate_size: 0,
-            });
-            let pipeline = PipelineBuilder {
-                layout: &layout,
-                ..builder
-            }
-            .build(
-                "backdrop pipeline",
-                &device.create_shader_module(shader!("backdrop")),
-                &[],
-                None,
-                DepthTest::None,
-            );
-            (pipeline, texture_layout)
-        });
 
         let buffer = |label: &'static str, size: usize, usage: wgpu::BufferUsages| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -268,6 +252,80 @@ impl GpuResources {
             (mesh.edges.len() + 1) * std::mem::size_of::<LineInstance>(),
             vertex_usage,
         );
+        let tile = (mesh.dimension == 2).then(|| {
+            let single_sampled = PipelineBuilder {
+                samples: 1,
+                ..builder
+            };
+            let (backdrop_layout, with_backdrop) = backdrop_layouts(device, &bind_group_layout);
+            let reading_backdrop = PipelineBuilder {
+                layout: &with_backdrop,
+                ..single_sampled
+            };
+            let backdrop = reading_backdrop.build(
+                "backdrop pipeline",
+                &device.create_shader_module(shader!("backdrop")),
+                &[],
+                None,
+                DepthTest::None,
+            );
+            let body2d = device.create_shader_module(shader!("body2d"));
+            let surface = single_sampled.build_entries(
+                "2D body surface pipeline",
+                &body2d,
+                ("vs_surface", "fs_surface"),
+                &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<BodyVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &wgpu::vertex_attr_array![
+                        0 => Float32x2, 1 => Float32x3, 2 => Float32x3,
+                        3 => Float32x4, 4 => Float32x4, 5 => Float32x4
+                    ],
+                })],
+                Some(wgpu::BlendState::ALPHA_BLENDING),
+                DepthTest::None,
+            );
+            let fringe = reading_backdrop.build_entries(
+                "2D body fringe pipeline",
+                &body2d,
+                ("vs_fringe", "fs_fringe"),
+                &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<FringeInstance>() as u64,
+                    step_mode: wgpu::VertexStepMode::Instance,
+                    attributes: &wgpu::vertex_attr_array![
+                        0 => Float32x2, 1 => Float32x2, 2 => Float32x2, 3 => Float32x3
+                    ],
+                })],
+                Some(wgpu::BlendState::ALPHA_BLENDING),
+                DepthTest::None,
+            );
+            let line = single_sampled.build_entries(
+                "2D body line pipeline",
+                &line_module,
+                ("vs_coverage", "fs_coverage"),
+                &[Some(line_layout.clone())],
+                Some(wgpu::BlendState::ALPHA_BLENDING),
+                DepthTest::None,
+            );
+            TileResources {
+                backdrop,
+                backdrop_layout,
+                surface,
+                fringe,
+                line,
+                body_vertices: buffer(
+                    "2D body vertex buffer",
+                    mesh.triangles.len() * 3 * std::mem::size_of::<BodyVertex>(),
+                    vertex_usage,
+                ),
+                // At most every edge of every triangle is on the boundary.
+                fringe_instances: buffer(
+                    "2D body fringe buffer",
+                    mesh.triangles.len() * 3 * std::mem::size_of::<FringeInstance>(),
+                    vertex_usage,
+                ),
+            }
+        });
 
         let size = wgpu::Extent3d {
             width,
@@ -338,7 +396,7 @@ impl GpuResources {
             ground,
             surface,
             line,
-            backdrop,
+            tile,
             surface_vertices,
             line_instances,
             msaa_view,
@@ -422,6 +480,34 @@ impl DepthTest {
     }
 }
 
+/// The bind group layout of the 2D backdrop texture (group 1), and the
+/// layout of the tile pipelines that read it (group 0 is the globals').
+fn backdrop_layouts(
+    device: &wgpu::Device,
+    globals_layout: &wgpu::BindGroupLayout,
+) -> (wgpu::BindGroupLayout, wgpu::PipelineLayout) {
+    let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("backdrop bind group layout"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    });
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("backdrop pipeline layout"),
+        bind_group_layouts: &[Some(globals_layout), Some(&texture_layout)],
+        immediate_size: 0,
+    });
+    (texture_layout, layout)
+}
+
+#[derive(Clone, Copy)]
 struct PipelineBuilder<'a> {
     device: &'a wgpu::Device,
     layout: &'a wgpu::PipelineLayout,
@@ -441,13 +527,27 @@ impl PipelineBuilder<'_> {
         blend: Option<wgpu::BlendState>,
         depth: DepthTest,
     ) -> wgpu::RenderPipeline {
+        self.build_entries(label, module, ("vs_main", "fs_main"), buffers, blend, depth)
+    }
+
+    /// [`PipelineBuilder::build`] with the vertex and fragment entry points
+    /// named.
+    fn build_entries(
+        &self,
+        label: &'static str,
+        module: &wgpu::ShaderModule,
+        (vertex_entry, fragment_entry): (&str, &str),
+        buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+        blend: Option<wgpu::BlendState>,
+        depth: DepthTest,
+    ) -> wgpu::RenderPipeline {
         self.device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
                 layout: Some(self.layout),
                 vertex: wgpu::VertexState {
                     module,
-                    entry_point: Some("vs_main"),
+                    entry_point: Some(vertex_entry),
                     compilation_options: Default::default(),
                     buffers,
                 },
@@ -463,7 +563,7 @@ impl PipelineBuilder<'_> {
                 },
                 fragment: Some(wgpu::FragmentState {
                     module,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(fragment_entry),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format: COLOR_FORMAT,

@@ -180,6 +180,11 @@ impl Look {
         }
     }
 
+    /// The width in pixels of the mesh's edge lines (0 when none are drawn).
+    pub fn edge_width(&self) -> f32 {
+        self.edges.map_or(0.0, |(_, width)| width)
+    }
+
     /// Moves the 3D contact shadow under the body at `positions`.
     pub fn follow_body(&mut self, positions: &[[f32; 3]]) {
         if let (Some(ground), Some(bounds)) = (self.shadow_ground, Bounds::of_points(positions)) {

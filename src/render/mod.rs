@@ -24,6 +24,7 @@
 //! range (or flat colour) frames are rendered and written as they are
 //! simulated.
 
+mod body_coverage;
 mod body_tile;
 mod camera;
 mod colormap;

@@ -31,8 +31,9 @@
 //! shaders work in linear light and the sRGB target encodes on write, so an
 //! unlit 2D pixel reads back as the colour map's own sRGB value.
 
+use super::body_coverage::{BodyTopology, BodyVertex, FringeInstance};
 use super::body_tile::{BodyTiles, TileInputs, body_rect};
-use super::frame_image::{FrameBase, FrameImage, Patch};
+use super::frame_image::{FrameBase, FrameImage, Patch, PixelRect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
 use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment};
@@ -69,13 +70,21 @@ pub struct Renderer {
     backdrop: Option<Backdrop>,
 }
 
-/// The fixed part of a 2D run's frames.
+/// A 2D frame's body as its tile draws it (see `body_coverage`).
+struct Body {
+    topology: BodyTopology,
+    vertices: Vec<BodyVertex>,
+    fringes: Vec<FringeInstance>,
+}
+
+/// The fixed part of a 2D run's frames, and the body drawn over it.
 struct Backdrop {
     /// The whole image without the body and the legend.
     image: RgbaImage,
     /// The backdrop with the legend: every frame is a patch over it.
     base: Arc<FrameBase>,
     tiles: BodyTiles,
+    body: Body,
 }
 
 /// The part of a [`Renderer`] that needs no frames: the device and the
@@ -159,10 +168,17 @@ impl PreparedRenderer {
             let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &image)?;
             let mut base = image.clone();
             renderer.look.draw_overlay(&mut base);
+            let triangles = renderer.mesh.triangles.len();
+            let topology = BodyTopology::new(&renderer.mesh);
             renderer.backdrop = Some(Backdrop {
                 image,
                 base: FrameBase::new(base),
                 tiles,
+                body: Body {
+                    vertices: Vec::with_capacity(3 * triangles),
+                    fringes: Vec::with_capacity(topology.boundary_edges()),
+                    topology,
+                },
             });
         }
         Ok(renderer)
@@ -235,13 +251,46 @@ impl Renderer {
         self.render_timed(frame).map(|(image, _)| image.to_rgba())
     }
 
-    /// Draws one frame as one whole image. [`Renderer::render`] draws a 2D
-    /// frame as its body's tile over the run's fixed backdrop instead (see
+    /// Draws one frame as one whole image, the way its frames are drawn:
+    /// in 2D the body over the backdrop in one tile the size of the image,
+    /// where [`Renderer::render`] draws only the tile around the body (see
     /// `body_tile`); this is the reference the tiles are checked against,
     /// and slower. In 3D both are the same.
     pub fn render_whole_image(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
         self.shape.check(frame)?;
         self.fill_buffers(frame);
+        let (width, height) = self.size();
+        let Some(backdrop) = &mut self.backdrop else {
+            self.draw_whole_image(true)?;
+            let mut image = self.read_whole_image()?;
+            self.look.draw_overlay(&mut image);
+            return Ok(image);
+        };
+        let inputs = tile_inputs(
+            &self.resources,
+            &self.look,
+            &backdrop.body,
+            &self.line_scratch,
+        );
+        let whole = PixelRect::new(0, 0, width, height);
+        let rect = backdrop.tiles.draw(&self.gpu, &inputs, Some(whole))?;
+        let mut image = backdrop.image.clone();
+        if let Some(patch) = backdrop.tiles.read_back(&self.gpu, rect)? {
+            patch.paste_into(&mut image);
+        }
+        self.look.draw_overlay(&mut image);
+        Ok(image)
+    }
+
+    /// Draws one frame as one whole image with 4x MSAA (when the adapter
+    /// has it) for everything, the body included: in 2D the reference that
+    /// the body's own anti-aliasing (`body_coverage`) is measured against.
+    /// In 3D the same as [`Renderer::render_whole_image`].
+    pub fn render_multisampled(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
+        self.shape.check(frame)?;
+        self.fill_buffers(frame);
+        self.fill_surface(frame);
+        self.upload_surface();
         self.draw_whole_image(true)?;
         let mut image = self.read_whole_image()?;
         self.look.draw_overlay(&mut image);
@@ -262,6 +311,7 @@ impl Renderer {
             readback: read - drawn,
             overlay: read.elapsed(),
         };
+        let (width, height) = self.size();
         let Some(backdrop) = &mut self.backdrop else {
             self.draw_whole_image(true)?;
             let drawn = Instant::now();
@@ -270,22 +320,19 @@ impl Renderer {
             self.look.draw_overlay(&mut image);
             return Ok((FrameImage::from(image), timings(drawn, read)));
         };
-        let (width, height) = (self.settings.width, self.settings.height);
-        let ground_lines = self.look.ground_lines();
-        let globals = self.look.globals();
         let rect = body_rect(
-            &Matrix4::from(globals.view_proj),
-            &self.surface_scratch,
-            &self.line_scratch[ground_lines as usize..],
+            &Matrix4::from(self.look.globals().view_proj),
+            &frame.positions,
+            self.look.edge_width(),
             width,
             height,
         );
-        let inputs = TileInputs {
-            resources: &self.resources,
-            globals,
-            surface_vertices: self.surface_scratch.len() as u32,
-            body_lines: ground_lines..self.line_scratch.len() as u32,
-        };
+        let inputs = tile_inputs(
+            &self.resources,
+            &self.look,
+            &backdrop.body,
+            &self.line_scratch,
+        );
         let rect = backdrop.tiles.draw(&self.gpu, &inputs, rect)?;
         let drawn = Instant::now();
         let patch = backdrop.tiles.read_back(&self.gpu, rect)?;
@@ -308,7 +355,7 @@ impl Renderer {
     fn draw_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
         self.surface_scratch.clear();
         self.look.lines(&[], &[], &mut self.line_scratch);
-        self.upload_buffers();
+        self.upload_lines();
         self.draw_whole_image(false)?;
         self.read_whole_image()
     }
@@ -425,11 +472,47 @@ impl Renderer {
             .expect("the readback holds width x height pixels"))
     }
 
-    /// Builds this frame's triangles, edges and uniforms and uploads them.
+    /// Builds this frame's colours, body, edges and uniforms and uploads
+    /// them: the body as its 2D tile draws it, or the 3D surface.
     fn fill_buffers(&mut self, frame: &RenderFrame) {
         self.look
             .element_colours(frame, self.mesh.element_count, &mut self.colour_scratch);
+        self.look
+            .lines(&self.mesh.edges, &frame.positions, &mut self.line_scratch);
+        self.look.follow_body(&frame.positions);
+        self.upload_lines();
+        match &mut self.backdrop {
+            Some(Backdrop { body, .. }) => {
+                body.topology.fill(
+                    &self.mesh,
+                    &frame.positions,
+                    &self.colour_scratch,
+                    &mut body.vertices,
+                    &mut body.fringes,
+                );
+                let tile = self
+                    .resources
+                    .tile
+                    .as_ref()
+                    .expect("a 2D renderer has tiles");
+                let queue = &self.gpu.queue;
+                queue.write_buffer(&tile.body_vertices, 0, bytemuck::cast_slice(&body.vertices));
+                queue.write_buffer(
+                    &tile.fringe_instances,
+                    0,
+                    bytemuck::cast_slice(&body.fringes),
+                );
+            }
+            None => {
+                self.fill_surface(frame);
+                self.upload_surface();
+            }
+        }
+    }
 
+    /// Builds the flat-shaded surface triangles of a frame (with the
+    /// element colours already made).
+    fn fill_surface(&mut self, frame: &RenderFrame) {
         let x = &frame.positions;
         self.surface_scratch.clear();
         for (t, &element) in self.mesh.triangles.iter().zip(&self.mesh.triangle_element) {
@@ -449,27 +532,43 @@ impl Renderer {
                 });
             }
         }
-
-        self.look.lines(&self.mesh.edges, x, &mut self.line_scratch);
-        self.look.follow_body(x);
-        self.upload_buffers();
     }
 
-    /// Uploads the uniforms, triangles and lines built for the next draw.
-    fn upload_buffers(&self) {
+    /// Uploads the uniforms and lines built for the next draw.
+    fn upload_lines(&self) {
         let queue = &self.gpu.queue;
         let r = &self.resources;
         queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
-        queue.write_buffer(
-            &r.surface_vertices,
-            0,
-            bytemuck::cast_slice(&self.surface_scratch),
-        );
         queue.write_buffer(
             &r.line_instances,
             0,
             bytemuck::cast_slice(&self.line_scratch),
         );
+    }
+
+    /// Uploads the surface triangles built for the next draw.
+    fn upload_surface(&self) {
+        self.gpu.queue.write_buffer(
+            &self.resources.surface_vertices,
+            0,
+            bytemuck::cast_slice(&self.surface_scratch),
+        );
+    }
+}
+
+/// What a 2D frame's tile is drawn with, from the buffers filled for it.
+fn tile_inputs<'a>(
+    resources: &'a GpuResources,
+    look: &'a Look,
+    body: &Body,
+    lines: &[LineInstance],
+) -> TileInputs<'a> {
+    TileInputs {
+        resources,
+        globals: look.globals(),
+        body_vertices: body.vertices.len() as u32,
+        fringes: body.fringes.len() as u32,
+        body_lines: look.ground_lines()..lines.len() as u32,
     }
 }
 
