@@ -155,12 +155,15 @@ pub(crate) fn image_problem(
     None
 }
 
-/// The image size must fit the graphics adapter (asked for only when rendering).
+/// The image size must fit the graphics adapter, whose largest image
+/// (`adapter_limits`, from [`crate::render::max_image_size`]) is asked for
+/// only when rendering.
 pub(crate) fn check_image_size(
     settings: &RenderSettings,
     input: SceneInput,
+    adapter_limits: Result<(u32, u64), crate::render::RenderError>,
 ) -> Result<(), AppError> {
-    let (max_side, max_bytes) = crate::render::max_image_size().map_err(AppError::Render)?;
+    let (max_side, max_bytes) = adapter_limits.map_err(AppError::Render)?;
     match image_problem(settings.width, settings.height, max_side, max_bytes) {
         Some(reason) => Err(input.error("render.resolution", reason)),
         None => Ok(()),

@@ -133,13 +133,27 @@ fn run_scene<const D: usize>(
     if plan.render && config.render.needs_whole_run() {
         preflight::check_kept_frames(config, input)?;
     }
+    // No graphics adapter, or an image it cannot hold: fail at once, not
+    // after the simulation. Opening the adapter takes a while (about 60 ms
+    // for llvmpipe), so it is opened on a thread of its own, and the
+    // simulation starts meanwhile and stops at the first frame after the
+    // answer if it is no.
+    let mut adapter_check = plan
+        .render
+        .then(|| std::thread::spawn(crate::render::max_image_size));
+    let mut check_adapter = |wait: bool| -> Result<(), AppError> {
+        match adapter_check.take_if(|thread| wait || thread.is_finished()) {
+            Some(thread) => {
+                let limits = thread
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                preflight::check_image_size(&config.render, input, limits)
+            }
+            None => Ok(()),
+        }
+    };
     let mut sim = build_simulation(config, input)?;
     let render_mesh = plan.render.then(|| RenderMesh::from_mesh(sim.mesh()));
-    if plan.render {
-        // No graphics adapter, or an image it cannot hold: fail now, not
-        // after the simulation.
-        preflight::check_image_size(&config.render, input)?;
-    }
 
     // 2. The output folder: refused (untouched) when it holds anything, unless
     //    --force; even then links and things in the way of the outputs are.
@@ -194,6 +208,7 @@ fn run_scene<const D: usize>(
     // are written all the same, with empty rendering cells.
     let simulated = (|| -> Result<(), AppError> {
         for frame in 0..frames {
+            check_adapter(false)?;
             let frame_stats = if frame == 0 {
                 sim.frame_stats()
             } else {
@@ -239,7 +254,7 @@ fn run_scene<const D: usize>(
                 )
             });
         }
-        Ok(())
+        check_adapter(true)
     })();
     progress.finish();
 

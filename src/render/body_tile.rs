@@ -5,11 +5,13 @@
 //! same in every frame, and the body often covers a small part of the image.
 //! On a software rasteriser most of a frame's time went to clearing and
 //! resolving the whole multisampled image (7 ms at 1280x720 on llvmpipe,
-//! of the default scene's 9 ms per frame). So the backdrop is drawn once, whole, and each frame draws
-//! only the pixel rectangle `R = [x0, x1) × [y0, y1)` around the body into a
-//! tile target of capacity `Wc × Hc ≥ |R|` (grown as needed, by 64 pixels),
-//! and reads back only that: the frame is the backdrop with the tile as its
-//! patch (`frame_image`).
+//! of the default scene's 9 ms per frame). So the backdrop is drawn once,
+//! whole, and each frame draws only the pixel rectangle
+//! `R = [x0, x1) × [y0, y1)` around the body into a tile target of capacity
+//! `Wc × Hc ≥ |R|` (grown as needed, by 64 pixels), with one sample per
+//! pixel (`body_coverage` anti-aliases in the shaders), and reads back only
+//! that: the frame is the backdrop with the tile as its patch
+//! (`frame_image`).
 //!
 //! The tile shows the same pixels as the whole image: a whole-image clip
 //! position `c` (pixel `p = ((c_x / c_w + 1) W / 2, (1 − c_y / c_w) H / 2)`
@@ -23,13 +25,10 @@
 //! `shaders/globals.wgsl`; the whole image uses `s = 1, o = 0`, which leaves
 //! every position bit for bit unchanged). Under the body the tile starts
 //! from the backdrop's own pixels (`shaders/backdrop.wgsl`), so the body's
-//! anti-aliased edges blend with the same background. Two things can still
-//! differ from drawing the whole image, each in a single pixel: where an
-//! edge pixel of the body meets an edge pixel of the ground line (the
-//! backdrop's samples are resolved already), and a sample lying exactly on
-//! an edge, which the extra multiply-add may put on the other side. `R`
-//! holds every vertex and every edge line's square cap with a margin of two
-//! pixels.
+//! anti-aliased edges blend with the same background. The extra multiply-add
+//! moves positions by rounding errors, so an edge pixel's coverage may round
+//! to the next level, in a few pixels. `R` holds every vertex and every edge
+//! line's square caps with a margin of two pixels.
 
 use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
@@ -37,6 +36,7 @@ use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
     COLOR_FORMAT, Globals, GpuResources, padded_row_bytes, resolved_colour_attachment,
 };
+use super::renderer::{encode_texture_copy, read_buffer};
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
 
@@ -305,13 +305,23 @@ impl BodyTiles {
                 pass.draw(0..6, inputs.body_lines.clone());
             }
         }
+        // The copy for the readback goes in the same submission: one round
+        // trip through the driver per frame instead of two.
+        encode_texture_copy(
+            &mut encoder,
+            &target.texture,
+            &target.readback,
+            padded_row_bytes(rect.width),
+            (rect.width, rect.height),
+        );
         gpu.queue.submit([encoder.finish()]);
         check_scope(validation, "drawing a tile")?;
         wait(device, "drawing a tile")?;
         Ok(Some(rect))
     }
 
-    /// The tile just drawn at `rect` (none when the body is outside the image).
+    /// The tile just drawn at `rect` (none when the body is outside the
+    /// image), copied to the readback buffer by the same submission.
     pub fn read_back(
         &self,
         gpu: &Gpu,
@@ -321,9 +331,8 @@ impl BodyTiles {
             return Ok(None);
         };
         let mut pixels = Vec::with_capacity((rect.width * rect.height * 4) as usize);
-        super::renderer::read_texture(
+        read_buffer(
             gpu,
-            &target.texture,
             &target.readback,
             padded_row_bytes(rect.width),
             (rect.width, rect.height),

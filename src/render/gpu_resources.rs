@@ -6,7 +6,9 @@
 //! layer (background, ground, surface, lines), vertex buffers for the
 //! surface's triangle corners and the instanced line segments, a 4x MSAA
 //! colour target resolved to `Rgba8UnormSrgb`, a depth target in 3D, and a
-//! readback buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`.
+//! readback buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`. In
+//! 2D also the single-sampled pipelines and buffers of the body tiles
+//! ([`TileResources`]: backdrop copy, surface, fringes, edge lines).
 //!
 //! 2D has no depth target: everything lies in the plane z = 0 under an
 //! orthographic camera and edges are not pulled towards the eye, so every

@@ -8,10 +8,12 @@
 //! The GPU is whatever wgpu finds: a hardware adapter when present, otherwise
 //! a software one (on a GPU-less Linux machine, the GL backend over Mesa
 //! llvmpipe through EGL). `WGPU_BACKEND` (e.g. `gl`, `vulkan`) restricts the
-//! backends tried. Images are rendered with 4x MSAA into an sRGB target; a
-//! 2D frame draws only the tile around its body over the run's fixed
-//! backdrop (`body_tile`), so that a software rasteriser does not clear and
-//! resolve the whole image's samples for every frame, and the frame stays a
+//! backends tried. Images are rendered into an sRGB target, with 4x MSAA in
+//! 3D and for the 2D backdrop; a 2D frame draws only the tile around its
+//! body over the run's fixed backdrop (`body_tile`), with one sample per
+//! pixel and the anti-aliasing computed in its shaders (`body_coverage`),
+//! so that a software rasteriser does not clear, shade and resolve four
+//! samples of the whole image for every frame, and the frame stays a
 //! patch over the run's base image ([`FrameImage`]) all the way to the
 //! files, so that encoding it costs what the patch costs (`frame_png`, the
 //! APNG's sub-frames in `video`).

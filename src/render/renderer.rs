@@ -10,7 +10,7 @@
 //! fill the vertex and uniform buffers, draw, read back, stamp the legend
 //! (drawn once on the CPU).
 //!
-//! - **3D** (and [`Renderer::render_whole_image`]): one pass over the whole
+//! - **3D** (and [`Renderer::render_multisampled`]): one pass over the whole
 //!   image into a 4x MSAA target with a depth target, resolved to
 //!   `Rgba8UnormSrgb`; the opaque layers nearest first (surface, ground,
 //!   background, then edges), so that hidden samples are rejected before
@@ -18,14 +18,14 @@
 //!   `DepthTest`). The resolved texture is copied to a buffer with rows
 //!   padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, mapped, and the padding
 //!   stripped ([`read_texture`]); the legend is stamped on it.
-//! - **2D**: the same pass, painted back to front (background, ground,
-//!   surface, edges), but only over the pixel rectangle around the body, in
-//!   a small target that starts from the backdrop; the tile read back is the
-//!   frame's patch over the base. Where the tile meets the legend, the
-//!   legend is drawn over the tile's pixels too.
-//!
-//! (Drawing and readback are two submissions instead of one: that costs next
-//! to nothing and lets [`Renderer::render_timed`] time them apart.)
+//! - **2D**: the backdrop (background, ground, ground line) is drawn once
+//!   that way, painted back to front. Each frame then draws only the pixel
+//!   rectangle around the body, in a small single-sampled target that
+//!   starts from the backdrop: the surface, the fringes along its boundary
+//!   and the edges, anti-aliased in their shaders (`body_coverage`). The
+//!   copy to the readback buffer goes in the same submission, and the tile
+//!   read back is the frame's patch over the base. Where the tile meets the
+//!   legend, the legend is drawn over the tile's pixels too.
 //!
 //! Colours are computed on the CPU (viridis in sRGB, converted to linear);
 //! shaders work in linear light and the sRGB target encodes on write, so an
@@ -126,11 +126,21 @@ impl PreparedRenderer {
                 .collect(),
             element_values: vec![0.0; self.mesh.element_count],
         };
-        let mut renderer = self.with_frames(std::slice::from_ref(&throwaway))?;
+        // The legend is drawn on the CPU: the throwaway frame goes without.
+        let settings = self.settings.clone();
+        let throwaway_settings = RenderSettings {
+            draw_legend: false,
+            ..settings.clone()
+        };
+        let mut renderer = PreparedRenderer {
+            settings: throwaway_settings,
+            ..self
+        }
+        .with_frames(std::slice::from_ref(&throwaway))?;
         renderer.render_timed(&throwaway)?;
         Ok(PreparedRenderer {
             gpu: renderer.gpu,
-            settings: renderer.settings,
+            settings,
             mesh: renderer.mesh,
             resources: renderer.resources,
         })
@@ -581,14 +591,28 @@ pub(super) fn read_texture(
     buffer: &wgpu::Buffer,
     padded_bytes_per_row: u32,
     size: (u32, u32),
-    mut row: impl FnMut(u32, &[u8]),
+    row: impl FnMut(u32, &[u8]),
 ) -> Result<(), RenderError> {
     let device = &gpu.device;
-    let (width, height) = size;
     let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("readback encoder"),
     });
+    encode_texture_copy(&mut encoder, texture, buffer, padded_bytes_per_row, size);
+    gpu.queue.submit([encoder.finish()]);
+    check_scope(validation, "copying a frame")?;
+    read_buffer(gpu, buffer, padded_bytes_per_row, size, row)
+}
+
+/// Records the copy of the top-left `size` pixels of `texture` into
+/// `buffer`, rows `padded_bytes_per_row` apart.
+pub(super) fn encode_texture_copy(
+    encoder: &mut wgpu::CommandEncoder,
+    texture: &wgpu::Texture,
+    buffer: &wgpu::Buffer,
+    padded_bytes_per_row: u32,
+    (width, height): (u32, u32),
+) {
     encoder.copy_texture_to_buffer(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo {
@@ -605,9 +629,19 @@ pub(super) fn read_texture(
             depth_or_array_layers: 1,
         },
     );
-    gpu.queue.submit([encoder.finish()]);
-    check_scope(validation, "copying a frame")?;
+}
 
+/// Maps `buffer` once the copies submitted into it are done, and hands
+/// each of its `size.1` rows' pixels (`size.0` wide, without the padding
+/// to `padded_bytes_per_row`) to `row` with its index.
+pub(super) fn read_buffer(
+    gpu: &Gpu,
+    buffer: &wgpu::Buffer,
+    padded_bytes_per_row: u32,
+    (width, height): (u32, u32),
+    mut row: impl FnMut(u32, &[u8]),
+) -> Result<(), RenderError> {
+    let device = &gpu.device;
     let (sender, receiver) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |result| {
         let _ = sender.send(result);
