@@ -115,6 +115,11 @@ pub(super) struct GpuResources {
 /// 2D: the single-sampled pipelines and buffers of the body tiles
 /// (`body_tile`), anti-aliased in their shaders (`body_coverage`).
 pub(super) struct TileResources {
+    /// The backdrop's layers, drawn once per run into the single-sampled
+    /// whole-image target: the background, the ground (anti-aliased in its
+    /// shader) and the ground line (with `line`).
+    pub background: wgpu::RenderPipeline,
+    pub ground: Option<wgpu::RenderPipeline>,
     /// Copies the backdrop texture (bind group 1, laid out as
     /// `backdrop_layout`) into a tile.
     pub backdrop: wgpu::RenderPipeline,
@@ -182,9 +187,10 @@ impl GpuResources {
             samples,
             depth,
         };
+        let background_module = device.create_shader_module(shader!("background"));
         let background = builder.build(
             "background pipeline",
-            &device.create_shader_module(shader!("background")),
+            &background_module,
             &[],
             None,
             DepthTest::FarPlaneOnly,
@@ -310,6 +316,22 @@ impl GpuResources {
                 DepthTest::None,
             );
             TileResources {
+                background: single_sampled.build(
+                    "single-sampled background pipeline",
+                    &background_module,
+                    &[],
+                    None,
+                    DepthTest::None,
+                ),
+                ground: settings.ground_height.map(|_| {
+                    single_sampled.build(
+                        "single-sampled 2D ground pipeline",
+                        &device.create_shader_module(shader!("ground2d")),
+                        &[],
+                        Some(wgpu::BlendState::ALPHA_BLENDING),
+                        DepthTest::None,
+                    )
+                }),
                 backdrop,
                 backdrop_layout,
                 surface,

@@ -38,14 +38,17 @@ impl LegendStamp {
     pub fn new(legend: Legend, width: u32, height: u32) -> Self {
         let mut footprint: Option<[u32; 4]> = None;
         for shade in [0u8, 255] {
-            let blank = RgbaImage::from_pixel(width, height, image::Rgba([shade; 4]));
-            let mut drawn = blank.clone();
+            let mut drawn = RgbaImage::from_pixel(width, height, image::Rgba([shade; 4]));
             legend.draw(&mut drawn);
-            for (x, y, pixel) in drawn.enumerate_pixels() {
-                if pixel != blank.get_pixel(x, y) {
-                    let f = footprint.get_or_insert([x, y, x + 1, y + 1]);
-                    *f = [f[0].min(x), f[1].min(y), f[2].max(x + 1), f[3].max(y + 1)];
-                }
+            let changed = drawn
+                .as_raw()
+                .chunks_exact(4)
+                .enumerate()
+                .filter(|(_, pixel)| *pixel != [shade; 4]);
+            for (index, _) in changed {
+                let (x, y) = (index as u32 % width, index as u32 / width);
+                let f = footprint.get_or_insert([x, y, x + 1, y + 1]);
+                *f = [f[0].min(x), f[1].min(y), f[2].max(x + 1), f[3].max(y + 1)];
             }
         }
         let [x0, y0, x1, y1] = footprint.unwrap_or([0, 0, 0, 0]);

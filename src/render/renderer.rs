@@ -271,7 +271,7 @@ impl Renderer {
         self.fill_buffers(frame);
         let (width, height) = self.size();
         let Some(backdrop) = &mut self.backdrop else {
-            self.draw_whole_image(true)?;
+            self.draw_whole_image()?;
             let mut image = self.read_whole_image()?;
             self.look.draw_overlay(&mut image);
             return Ok(image);
@@ -301,7 +301,7 @@ impl Renderer {
         self.fill_buffers(frame);
         self.fill_surface(frame);
         self.upload_surface();
-        self.draw_whole_image(true)?;
+        self.draw_whole_image()?;
         let mut image = self.read_whole_image()?;
         self.look.draw_overlay(&mut image);
         Ok(image)
@@ -323,7 +323,7 @@ impl Renderer {
         };
         let (width, height) = self.size();
         let Some(backdrop) = &mut self.backdrop else {
-            self.draw_whole_image(true)?;
+            self.draw_whole_image()?;
             let drawn = Instant::now();
             let mut image = self.read_whole_image()?;
             let read = Instant::now();
@@ -361,18 +361,66 @@ impl Renderer {
         Ok((image, timings(drawn, read)))
     }
 
-    /// The 2D backdrop: the whole image without the body (no legend).
+    /// The 2D backdrop: the whole image without the body (no legend),
+    /// single-sampled: the ground anti-aliases its edge in its shader, and
+    /// the ground line is drawn by coverage like the body's edges.
     fn draw_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
-        self.surface_scratch.clear();
         self.look.lines(&[], &[], &mut self.line_scratch);
         self.upload_lines();
-        self.draw_whole_image(false)?;
+        let device = &self.gpu.device;
+        let r = &self.resources;
+        let tile = r.tile.as_ref().expect("a 2D renderer has tiles");
+        let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("backdrop encoder"),
+        });
+        {
+            let globals = self.look.globals();
+            let sky = globals.sky_top;
+            let clear = wgpu::Color {
+                r: sky[0] as f64,
+                g: sky[1] as f64,
+                b: sky[2] as f64,
+                a: 1.0,
+            };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("backdrop pass"),
+                color_attachments: &[Some(resolved_colour_attachment(
+                    None,
+                    &r.resolved_view,
+                    clear,
+                ))],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &r.bind_group, &[]);
+            // A plain background is the clear colour already.
+            if globals.sky_top != globals.sky_bottom {
+                pass.set_pipeline(&tile.background);
+                pass.draw(0..3, 0..1);
+            }
+            if let Some(ground) = &tile.ground {
+                pass.set_pipeline(ground);
+                pass.draw(0..6, 0..1);
+            }
+            let ground_lines = self.look.ground_lines();
+            if ground_lines > 0 {
+                pass.set_pipeline(&tile.line);
+                pass.set_vertex_buffer(0, r.line_instances.slice(..));
+                pass.draw(0..6, 0..ground_lines);
+            }
+        }
+        self.gpu.queue.submit([encoder.finish()]);
+        check_scope(validation, "drawing the backdrop")?;
+        wait(device, "drawing the backdrop")?;
         self.read_whole_image()
     }
 
-    /// Draws the whole image from the filled buffers (without the body's
-    /// surface and edges unless `with_body`) and waits for it.
-    fn draw_whole_image(&self, with_body: bool) -> Result<(), RenderError> {
+    /// Draws the whole image from the filled buffers with 4x MSAA and waits
+    /// for it.
+    fn draw_whole_image(&self) -> Result<(), RenderError> {
         let device = &self.gpu.device;
         let queue = &self.gpu.queue;
         let r = &self.resources;
@@ -420,7 +468,7 @@ impl Renderer {
                 pass.draw(0..vertices, 0..1);
             };
             let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
-                if with_body && !self.surface_scratch.is_empty() {
+                if !self.surface_scratch.is_empty() {
                     pass.set_pipeline(&r.surface);
                     pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
                     pass.draw(0..self.surface_scratch.len() as u32, 0..1);
@@ -453,7 +501,7 @@ impl Renderer {
                 }
                 draw_surface(&mut pass);
             }
-            if with_body && self.line_scratch.len() as u32 > ground_lines {
+            if self.line_scratch.len() as u32 > ground_lines {
                 pass.set_pipeline(&r.line);
                 pass.set_vertex_buffer(0, r.line_instances.slice(..));
                 pass.draw(0..6, ground_lines..self.line_scratch.len() as u32);
