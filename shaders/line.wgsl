@@ -21,34 +21,57 @@ fn pulled(p: vec3<f32>) -> vec4<f32> {
     return g.view_proj * vec4<f32>(p + towards_eye * g.viewport.w, 1.0);
 }
 
-@vertex
-fn vs_main(@builtin(vertex_index) index: u32, line: LineIn) -> VsOut {
-    // (end?, side) per corner of the two triangles.
+// Where a quad corner lies: (end?, side) per corner of the two triangles.
+fn quad_corner(index: u32) -> vec2<f32> {
     var corners = array<vec2<f32>, 6>(
         vec2<f32>(0.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
         vec2<f32>(0.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(0.0, 1.0),
     );
-    let corner = corners[index];
-    let a = pulled(line.start);
-    let b = pulled(line.end);
+    return corners[index];
+}
+
+// A segment on the screen: its pulled clip-space ends, the same in pixels
+// from the image's centre (y up), and its unit direction and normal there.
+struct ScreenSegment {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    pa: vec2<f32>,
+    pb: vec2<f32>,
+    length_px: f32,
+    direction: vec2<f32>,
+    normal: vec2<f32>,
+};
+
+fn screen_segment(line: LineIn) -> ScreenSegment {
+    var s: ScreenSegment;
+    s.a = pulled(line.start);
+    s.b = pulled(line.end);
     let half_size = 0.5 * g.viewport.xy;
-    let pa = a.xy / a.w * half_size;
-    let pb = b.xy / b.w * half_size;
-    let delta = pb - pa;
-    let length_px = length(delta);
-    var direction = vec2<f32>(1.0, 0.0);
-    if length_px > 1e-6 {
-        direction = delta / length_px;
+    s.pa = s.a.xy / s.a.w * half_size;
+    s.pb = s.b.xy / s.b.w * half_size;
+    let delta = s.pb - s.pa;
+    s.length_px = length(delta);
+    s.direction = vec2<f32>(1.0, 0.0);
+    if s.length_px > 1e-6 {
+        s.direction = delta / s.length_px;
     }
-    let normal = vec2<f32>(-direction.y, direction.x);
+    s.normal = vec2<f32>(-s.direction.y, s.direction.x);
+    return s;
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) index: u32, line: LineIn) -> VsOut {
+    let corner = quad_corner(index);
+    let s = screen_segment(line);
+    let half_size = 0.5 * g.viewport.xy;
     let half_width = 0.5 * line.width;
-    var base = a;
+    var base = s.a;
     var cap = -half_width;
     if corner.x > 0.5 {
-        base = b;
+        base = s.b;
         cap = half_width;
     }
-    let offset_px = normal * (corner.y * half_width) + direction * cap;
+    let offset_px = s.normal * (corner.y * half_width) + s.direction * cap;
     var out: VsOut;
     out.clip = to_tile(vec4<f32>(base.xy + offset_px / half_size * base.w, base.zw));
     out.colour = line.colour;
@@ -77,30 +100,14 @@ struct CoverageOut {
 
 @vertex
 fn vs_coverage(@builtin(vertex_index) index: u32, line: LineIn) -> CoverageOut {
-    // (end?, side) per corner of the two triangles.
-    var corners = array<vec2<f32>, 6>(
-        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, -1.0), vec2<f32>(1.0, 1.0),
-        vec2<f32>(0.0, -1.0), vec2<f32>(1.0, 1.0), vec2<f32>(0.0, 1.0),
-    );
-    let corner = corners[index];
-    let a = pulled(line.start);
-    let b = pulled(line.end);
-    let half_size = 0.5 * g.viewport.xy;
-    let pa = a.xy / a.w * half_size;
-    let pb = b.xy / b.w * half_size;
-    let delta = pb - pa;
-    let length_px = length(delta);
-    var direction = vec2<f32>(1.0, 0.0);
-    if length_px > 1e-6 {
-        direction = delta / length_px;
-    }
-    let normal = vec2<f32>(-direction.y, direction.x);
+    let corner = quad_corner(index);
+    let s = screen_segment(line);
     let half_width = 0.5 * line.width;
-    let half_extent = vec2<f32>(0.5 * length_px + half_width, half_width);
+    let half_extent = vec2<f32>(0.5 * s.length_px + half_width, half_width);
     let local = vec2<f32>(corner.x * 2.0 - 1.0, corner.y) * (half_extent + 1.0);
-    let p = 0.5 * (pa + pb) + direction * local.x + normal * local.y;
+    let p = 0.5 * (s.pa + s.pb) + s.direction * local.x + s.normal * local.y;
     var out: CoverageOut;
-    out.clip = to_tile(vec4<f32>(p / half_size * a.w, a.zw));
+    out.clip = to_tile(vec4<f32>(p / (0.5 * g.viewport.xy) * s.a.w, s.a.zw));
     out.colour = line.colour;
     out.local = local;
     out.half_extent = half_extent;

@@ -180,6 +180,17 @@ impl Look {
         }
     }
 
+    /// The colour a whole image's pass starts from: the top of the background.
+    pub fn clear_colour(&self) -> wgpu::Color {
+        let sky = self.globals.sky_top;
+        wgpu::Color {
+            r: sky[0] as f64,
+            g: sky[1] as f64,
+            b: sky[2] as f64,
+            a: 1.0,
+        }
+    }
+
     /// The width in pixels of the mesh's edge lines (0 when none are drawn).
     pub fn edge_width(&self) -> f32 {
         self.edges.map_or(0.0, |(_, width)| width)

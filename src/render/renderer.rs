@@ -18,8 +18,8 @@
 //!   `DepthTest`). The resolved texture is copied to a buffer with rows
 //!   padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, mapped, and the padding
 //!   stripped ([`read_texture`]); the legend is stamped on it.
-//! - **2D**: the backdrop (background, ground, ground line) is drawn once
-//!   that way, painted back to front. Each frame then draws only the pixel
+//! - **2D**: the backdrop (background, ground, ground line) is drawn once,
+//!   single-sampled, painted back to front. Each frame then draws only the pixel
 //!   rectangle around the body, in a small single-sampled target that
 //!   starts from the backdrop: the surface, the fringes along its boundary
 //!   and the edges, anti-aliased in their shaders (`body_coverage`). The
@@ -376,19 +376,12 @@ impl Renderer {
         });
         {
             let globals = self.look.globals();
-            let sky = globals.sky_top;
-            let clear = wgpu::Color {
-                r: sky[0] as f64,
-                g: sky[1] as f64,
-                b: sky[2] as f64,
-                a: 1.0,
-            };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("backdrop pass"),
                 color_attachments: &[Some(resolved_colour_attachment(
                     None,
                     &r.resolved_view,
-                    clear,
+                    self.look.clear_colour(),
                 ))],
                 depth_stencil_attachment: None,
                 timestamp_writes: None,
@@ -432,19 +425,12 @@ impl Renderer {
         });
         {
             let globals = self.look.globals();
-            let sky = globals.sky_top;
-            let clear = wgpu::Color {
-                r: sky[0] as f64,
-                g: sky[1] as f64,
-                b: sky[2] as f64,
-                a: 1.0,
-            };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("frame pass"),
                 color_attachments: &[Some(resolved_colour_attachment(
                     r.msaa_view.as_ref(),
                     &r.resolved_view,
-                    clear,
+                    self.look.clear_colour(),
                 ))],
                 depth_stencil_attachment: r.depth_view.as_ref().map(|depth_view| {
                     wgpu::RenderPassDepthStencilAttachment {
