@@ -124,8 +124,9 @@ pub(super) struct TileResources {
     /// `backdrop_layout`) into a tile.
     pub backdrop: wgpu::RenderPipeline,
     pub backdrop_layout: wgpu::BindGroupLayout,
-    /// The fringes read the backdrop texture too.
+    /// The body's triangles, opaque.
     pub surface: wgpu::RenderPipeline,
+    /// The fringes along the boundary; they read the backdrop texture too.
     pub fringe: wgpu::RenderPipeline,
     /// The edge lines, from `line_instances`.
     pub line: wgpu::RenderPipeline,
@@ -290,7 +291,7 @@ impl GpuResources {
                         3 => Float32x4, 4 => Float32x4, 5 => Float32x4
                     ],
                 })],
-                Some(wgpu::BlendState::ALPHA_BLENDING),
+                None,
                 DepthTest::None,
             );
             let fringe = reading_backdrop.build_entries(
