@@ -23,9 +23,11 @@
 //!
 //! which is pixel `p − (x0, y0)` of the tile target (`to_tile` in
 //! `shaders/globals.wgsl`; the whole image uses `s = 1, o = 0`, which leaves
-//! every position bit for bit unchanged). Under the body the tile starts
-//! from the backdrop's own pixels (`shaders/backdrop.wgsl`), so the body's
-//! anti-aliased edges blend with the same background. The extra multiply-add
+//! every position bit for bit unchanged). The tile starts from the
+//! backdrop's own pixels, copied texture to texture (a copy of memory on a
+//! software rasteriser, where a full-tile shader pass cost more than the
+//! body), so the body's anti-aliased edges blend with the same background;
+//! the pass is scissored to `R`, the only part read back. The extra multiply-add
 //! moves positions by rounding errors, so an edge pixel's coverage may round
 //! to the next level, in a few pixels. `R` holds every vertex and every edge
 //! line's square caps with a margin of two pixels.
@@ -33,9 +35,7 @@
 use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
-use super::gpu_resources::{
-    COLOR_FORMAT, Globals, GpuResources, padded_row_bytes, resolved_colour_attachment,
-};
+use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources, padded_row_bytes};
 use super::renderer::{encode_texture_copy, read_buffer};
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
@@ -130,7 +130,9 @@ impl TileTarget {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
@@ -166,13 +168,16 @@ pub(super) struct TileInputs<'a> {
 pub(super) struct BodyTiles {
     /// The image size.
     size: (u32, u32),
+    /// The backdrop, copied under each tile.
+    backdrop: wgpu::Texture,
+    /// The backdrop for the fringes' inner halves to read.
     backdrop_bind_group: wgpu::BindGroup,
     target: Option<TileTarget>,
 }
 
 impl BodyTiles {
-    /// Uploads `backdrop` (the whole image without the body) for the tiles'
-    /// first layer.
+    /// Uploads `backdrop` (the whole image without the body), which each
+    /// tile starts from.
     pub fn new(
         gpu: &Gpu,
         resources: &GpuResources,
@@ -198,7 +203,9 @@ impl BodyTiles {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_DST
+                | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         gpu.queue.write_texture(
@@ -223,6 +230,7 @@ impl BodyTiles {
         check_scope(validation, "preparing the 2D backdrop")?;
         Ok(BodyTiles {
             size: backdrop.dimensions(),
+            backdrop: texture,
             backdrop_bind_group,
             target: None,
         })
@@ -271,24 +279,47 @@ impl BodyTiles {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tile encoder"),
         });
+        // The backdrop under the tile, then the body over it.
+        encoder.copy_texture_to_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.backdrop,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: rect.x,
+                    y: rect.y,
+                    z: 0,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            target.texture.as_image_copy(),
+            wgpu::Extent3d {
+                width: rect.width,
+                height: rect.height,
+                depth_or_array_layers: 1,
+            },
+        );
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("tile pass"),
-                // The backdrop layer covers the whole target: the clear colour never shows.
-                color_attachments: &[Some(resolved_colour_attachment(
-                    None,
-                    &target.view,
-                    wgpu::Color::BLACK,
-                ))],
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
                 depth_stencil_attachment: None,
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
+            // Only the tile's rectangle is read back: the rest of the
+            // target is never shaded.
+            pass.set_scissor_rect(0, 0, rect.width, rect.height);
             pass.set_bind_group(0, &r.bind_group, &[]);
             pass.set_bind_group(1, &self.backdrop_bind_group, &[]);
-            pass.set_pipeline(&tile.backdrop);
-            pass.draw(0..3, 0..1);
             if inputs.body_vertices > 0 {
                 pass.set_pipeline(&tile.surface);
                 pass.set_vertex_buffer(0, tile.body_vertices.slice(..));

@@ -8,7 +8,7 @@
 //! colour target resolved to `Rgba8UnormSrgb`, a depth target in 3D, and a
 //! readback buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`. In
 //! 2D also the single-sampled pipelines and buffers of the body tiles
-//! ([`TileResources`]: backdrop copy, surface, fringes, edge lines).
+//! ([`TileResources`]: surface, fringes, edge lines).
 //!
 //! 2D has no depth target: everything lies in the plane z = 0 under an
 //! orthographic camera and edges are not pulled towards the eye, so every
@@ -120,9 +120,8 @@ pub(super) struct TileResources {
     /// shader) and the ground line (with `line`).
     pub background: wgpu::RenderPipeline,
     pub ground: Option<wgpu::RenderPipeline>,
-    /// Copies the backdrop texture (bind group 1, laid out as
-    /// `backdrop_layout`) into a tile.
-    pub backdrop: wgpu::RenderPipeline,
+    /// The backdrop texture's bind group layout (group 1), read by the
+    /// fringes.
     pub backdrop_layout: wgpu::BindGroupLayout,
     /// The body's triangles, opaque.
     pub surface: wgpu::RenderPipeline,
@@ -271,13 +270,6 @@ impl GpuResources {
                 layout: &with_backdrop,
                 ..single_sampled
             };
-            let backdrop = reading_backdrop.build(
-                "backdrop pipeline",
-                &device.create_shader_module(shader!("backdrop")),
-                &[],
-                None,
-                DepthTest::None,
-            );
             let body2d = device.create_shader_module(shader!("body2d"));
             let surface = single_sampled.build_entries(
                 "2D body surface pipeline",
@@ -333,7 +325,6 @@ impl GpuResources {
                         DepthTest::None,
                     )
                 }),
-                backdrop,
                 backdrop_layout,
                 surface,
                 fringe,
