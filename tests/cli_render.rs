@@ -153,3 +153,79 @@ fn a_run_lists_ffmpegs_encoders_once() {
     assert!(out.join("video.mp4").exists());
     assert_eq!(fake.encoder_listings(), 1);
 }
+
+/// `--force` over an earlier, longer run: the earlier frames' files are
+/// reused for the new ones (their inodes, on Unix) and the rest removed, so
+/// the folder holds exactly the new frames, the same bytes as a fresh run,
+/// with no hidden spare or partial file left; a frame with a second hard
+/// link is not reused, so the other name keeps the earlier bytes.
+#[test]
+fn a_forced_rerun_reuses_the_earlier_frames_files_and_leaves_only_its_own() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |out: &str, frames: &str, force: bool| {
+        let mut args = vec![
+            "run",
+            "--frames",
+            frames,
+            "--resolution",
+            "160x120",
+            "--video",
+            "none",
+            "--out",
+            out,
+            "-q",
+        ];
+        if force {
+            args.push("--force");
+        }
+        assert_code(&elasto(tmp.path(), &args), 0);
+    };
+    let names = |dir: &str| {
+        let mut names: Vec<String> = std::fs::read_dir(tmp.path().join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    run("fresh", "3", false);
+    run("o", "5", false);
+    let old_frame = std::fs::read(tmp.path().join("o/frames/frame_0000.png")).unwrap();
+    std::fs::hard_link(
+        tmp.path().join("o/frames/frame_0000.png"),
+        tmp.path().join("kept.png"),
+    )
+    .unwrap();
+    #[cfg(unix)]
+    let inode = |path: &std::path::Path| {
+        std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(path).unwrap())
+    };
+    #[cfg(unix)]
+    let old_inodes: Vec<u64> = (1..5)
+        .map(|i| inode(&tmp.path().join(format!("o/frames/frame_{i:04}.png"))))
+        .collect();
+
+    run("o", "3", true);
+    assert_eq!(names("o/frames"), names("fresh/frames"));
+    assert_eq!(
+        names("o/frames"),
+        ["frame_0000.png", "frame_0001.png", "frame_0002.png"]
+    );
+    for name in names("o/frames") {
+        let path = |dir: &str| tmp.path().join(dir).join("frames").join(&name);
+        assert_eq!(
+            std::fs::read(path("o")).unwrap(),
+            std::fs::read(path("fresh")).unwrap(),
+            "{name}"
+        );
+        #[cfg(unix)]
+        assert!(
+            old_inodes.contains(&inode(&path("o"))),
+            "{name} was written to a new file, not an earlier frame's"
+        );
+    }
+    assert_eq!(
+        std::fs::read(tmp.path().join("kept.png")).unwrap(),
+        old_frame
+    );
+}

@@ -1,6 +1,7 @@
 //! The run's output folder: refused when it holds anything unless forced.
 
 use super::OutputError;
+use crate::render::{SpareFiles, keep_as_spare};
 use std::path::{Path, PathBuf};
 
 /// Names of the files and folders a run writes at the top of its folder.
@@ -37,6 +38,14 @@ fn ours_inside(name: &str) -> bool {
         || (name.starts_with(".frame_") && name.ends_with(".partial"))
         || (name.starts_with("surface_") && (name.ends_with(".obj") || name.ends_with(".ply")))
         || (name.starts_with(".surface_") && name.ends_with(".tmp"))
+        || spare_of(name).is_some_and(ours_inside)
+}
+
+/// The name a spare file stands for (`.frame_0042.png.spare`: the frame
+/// `frame_0042.png` of an earlier run, waiting to be reused; see
+/// [`keep_as_spare`]).
+fn spare_of(name: &str) -> Option<&str> {
+    name.strip_prefix('.')?.strip_suffix(".spare")
 }
 
 impl OutputDir {
@@ -74,12 +83,19 @@ impl OutputDir {
     /// `surfaces/surface_*.obj|ply`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
     /// [`OutputDir::check`] has made sure that none of these is a link.
-    pub fn prepare(&self) -> Result<(), OutputError> {
+    ///
+    /// The earlier frames are hidden as spares rather than removed, for this
+    /// run's frames to reuse their inodes ([`keep_as_spare`]); the returned
+    /// guard removes those left over when it is dropped, at the end of the
+    /// run.
+    pub fn prepare(&self) -> Result<SpareFiles, OutputError> {
         std::fs::create_dir_all(&self.path)
             .map_err(OutputError::io("create folder", &self.path))?;
         for name in OWNED_FILES {
             remove_if_file(&self.path.join(name))?;
         }
+        let spares = SpareFiles::under(&self.path);
+        let frames = self.path.join("frames");
         for folder in OWNED_FOLDERS {
             let folder = self.path.join(folder);
             if !folder.is_dir() {
@@ -90,12 +106,18 @@ impl OutputDir {
             for entry in entries {
                 let entry = entry.map_err(OutputError::io("read folder", &folder))?;
                 let name = entry.file_name().to_string_lossy().into_owned();
-                if ours_inside(&name) && !name.ends_with(".partial") {
-                    remove_if_file(&entry.path())?;
+                if !ours_inside(&name) || name.ends_with(".partial") {
+                    continue;
+                }
+                let path = entry.path();
+                if folder == frames && path.is_file() {
+                    keep_as_spare(&path).map_err(OutputError::io("replace", &path))?;
+                } else {
+                    remove_if_file(&path)?;
                 }
             }
         }
-        Ok(())
+        Ok(spares)
     }
 
     /// The folder.
@@ -212,7 +234,11 @@ mod tests {
         assert!(err.to_string().contains(&tmp.path().display().to_string()));
 
         let dir = OutputDir::check(tmp.path(), true, &["frames"]).unwrap();
-        dir.prepare().unwrap();
+        let spares = dir.prepare().unwrap();
+        // The earlier frame waits, hidden, for this run to reuse its file.
+        assert!(tmp.path().join("frames/.frame_0009.png.spare").is_file());
+        drop(spares);
+        assert!(!tmp.path().join("frames/.frame_0009.png.spare").exists());
         assert_eq!(
             std::fs::read_to_string(tmp.path().join("notes.txt")).unwrap(),
             "mine"
@@ -286,10 +312,12 @@ mod tests {
         let out = tmp.path().join("mine");
         std::fs::create_dir(&out).unwrap();
         std::os::unix::fs::symlink(&elsewhere, out.join("notes")).unwrap();
-        OutputDir::check(&out, true, &["frames"])
-            .unwrap()
-            .prepare()
-            .unwrap();
+        drop(
+            OutputDir::check(&out, true, &["frames"])
+                .unwrap()
+                .prepare()
+                .unwrap(),
+        );
         assert!(elsewhere.join("frame_0042.png").exists());
     }
 

@@ -15,6 +15,20 @@
 //! encoder, happen under the list's lock, and [`remove_partial_files`] closes
 //! the list for good: nothing can create a partial file after the cleanup has
 //! run, nor slip between its kills and its removals.
+//!
+//! **Spare files.** A run with `--force` replaces an earlier run's frames.
+//! Deleting 300 files and creating 300 new ones is not free: on ext4
+//! without a journal, each new file's inode is searched for past every inode
+//! freed in the last few seconds to minutes, which cost a re-run of the
+//! default scene more CPU time than encoding its PNGs. So the earlier
+//! frames are not deleted but hidden as spares ([`keep_as_spare`]:
+//! `.frame_0042.png.spare`, entered in the list), and a partial file in the
+//! same folder takes a spare's inode — renamed to the temporary and
+//! truncated — instead of a new one. Only a regular file with one link
+//! becomes a spare (truncating a hard link would change the other name's
+//! contents). The spares left when the run ends are removed
+//! ([`SpareFiles`]), and by [`remove_partial_files`] on an interrupt; one
+//! left by a killed process is taken again by the next `--force` run.
 
 use super::RenderError;
 use super::image_file::temporary_path;
@@ -30,6 +44,9 @@ struct Registry {
     files: Vec<PathBuf>,
     /// Process ids of encoders, each the leader of its own process group.
     processes: Vec<u32>,
+    /// Hidden files of an earlier run whose inodes the next partial files
+    /// in their folders take (see the module documentation).
+    spares: Vec<PathBuf>,
     /// [`remove_partial_files`] has run: the process is about to exit.
     closed: bool,
 }
@@ -37,6 +54,7 @@ struct Registry {
 static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
     files: Vec::new(),
     processes: Vec::new(),
+    spares: Vec::new(),
     closed: false,
 });
 
@@ -56,11 +74,91 @@ pub fn remove_partial_files() -> usize {
     for &pid in &registry.processes {
         kill_group(pid);
     }
+    for spare in registry.spares.drain(..) {
+        let _ = std::fs::remove_file(spare);
+    }
     registry
         .files
         .iter()
         .filter(|path| std::fs::remove_file(path).is_ok())
         .count()
+}
+
+/// The hidden name under which a file of an earlier run waits to be reused.
+fn spare_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.spare"))
+}
+
+/// Hides `path`, a file of an earlier run that this run replaces, as a spare
+/// whose inode the next partial file in its folder takes (see the module
+/// documentation); a file that is not a regular file with a single link, or
+/// that cannot be renamed, is removed instead. `path` may be a spare already
+/// (left by a killed run).
+pub(crate) fn keep_as_spare(path: &Path) -> std::io::Result<()> {
+    let meta = std::fs::symlink_metadata(path)?;
+    #[cfg(unix)]
+    let single_link = std::os::unix::fs::MetadataExt::nlink(&meta) == 1;
+    #[cfg(not(unix))]
+    let single_link = false;
+    if !(meta.is_file() && single_link) {
+        return std::fs::remove_file(path);
+    }
+    let is_spare = path
+        .file_name()
+        .is_some_and(|n| n.to_string_lossy().ends_with(".spare"));
+    let spare = if is_spare {
+        path.to_owned()
+    } else {
+        let spare = spare_path(path);
+        if std::fs::rename(path, &spare).is_err() {
+            return std::fs::remove_file(path);
+        }
+        spare
+    };
+    registry().spares.push(spare);
+    Ok(())
+}
+
+/// Takes a spare in `folder` off the list.
+fn take_spare(registry: &mut Registry, folder: Option<&Path>) -> Option<PathBuf> {
+    let index = registry
+        .spares
+        .iter()
+        .rposition(|spare| spare.parent() == folder)?;
+    Some(registry.spares.swap_remove(index))
+}
+
+/// Removes, when dropped, the spares still waiting under its folder: the
+/// earlier run's files that this run did not reuse.
+#[must_use = "dropping it removes the spares at once"]
+pub struct SpareFiles {
+    folder: PathBuf,
+}
+
+impl SpareFiles {
+    /// Watches the spares under `folder`.
+    pub fn under(folder: &Path) -> Self {
+        Self {
+            folder: folder.to_owned(),
+        }
+    }
+}
+
+impl Drop for SpareFiles {
+    fn drop(&mut self) {
+        let mut registry = registry();
+        registry.spares.retain(|spare| {
+            let ours = spare.starts_with(&self.folder);
+            if ours {
+                let _ = std::fs::remove_file(spare);
+            }
+            !ours
+        });
+    }
 }
 
 /// A file of the run being written under its hidden temporary name.
@@ -93,11 +191,18 @@ impl PartialFile {
         &self.temporary
     }
 
-    /// Creates (or truncates) the temporary file.
+    /// Creates (or truncates) the temporary file: a spare in its folder
+    /// renamed, when there is one, so that no new inode is needed.
     pub fn create(&self) -> Result<File, RenderError> {
-        let registry = registry();
+        let mut registry = registry();
         if registry.closed {
             return Err(RenderError::Interrupted);
+        }
+        if let Some(spare) = take_spare(&mut registry, self.temporary.parent())
+            && std::fs::rename(&spare, &self.temporary).is_ok()
+            && let Ok(file) = open_existing(&self.temporary)
+        {
+            return Ok(file);
         }
         File::create(&self.temporary).map_err(|source| RenderError::Io {
             path: self.path.clone(),
@@ -135,6 +240,16 @@ impl Drop for PartialFile {
         let _ = std::fs::remove_file(&self.temporary);
         forget(&mut registry, &self.temporary);
     }
+}
+
+/// Opens the file at `path` for writing, truncated, without creating it
+/// and without following a link.
+fn open_existing(path: &Path) -> std::io::Result<File> {
+    let mut options = std::fs::OpenOptions::new();
+    options.write(true).truncate(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NOFOLLOW);
+    options.open(path)
 }
 
 /// Takes one registration of `temporary` off the list.
@@ -233,5 +348,63 @@ mod tests {
         assert_eq!(std::fs::read(&kept).unwrap(), b"whole");
         let registry = registry();
         assert!(!registry.files.iter().any(|p| p.starts_with(dir.path())));
+    }
+
+    /// The names in `folder`, sorted.
+    fn names(folder: &Path) -> Vec<String> {
+        let mut names: Vec<String> = std::fs::read_dir(folder)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_partial_file_takes_a_spare_in_its_own_folder_and_the_rest_go() {
+        use std::os::unix::fs::MetadataExt;
+        let dir = tempfile::tempdir().unwrap();
+        let (frames, other) = (dir.path().join("frames"), dir.path().join("other"));
+        std::fs::create_dir(&frames).unwrap();
+        std::fs::create_dir(&other).unwrap();
+        let old = frames.join("frame_0007.png");
+        std::fs::write(&old, b"an earlier, longer frame").unwrap();
+        let old_inode = std::fs::metadata(&old).unwrap().ino();
+        let linked = frames.join("frame_0008.png");
+        std::fs::write(&linked, b"linked").unwrap();
+        std::fs::hard_link(&linked, dir.path().join("kept.png")).unwrap();
+
+        let spares = SpareFiles::under(dir.path());
+        keep_as_spare(&old).unwrap();
+        keep_as_spare(&linked).unwrap();
+        // The single-link file is hidden; the linked one is only unlinked here.
+        assert_eq!(names(&frames), [".frame_0007.png.spare"]);
+        assert_eq!(
+            std::fs::read(dir.path().join("kept.png")).unwrap(),
+            b"linked"
+        );
+
+        // A file in another folder does not take it.
+        let elsewhere = PartialFile::new(&other.join("frame_0000.png")).unwrap();
+        elsewhere.create().unwrap().write_all(b"x").unwrap();
+        elsewhere.publish().unwrap();
+        assert_eq!(names(&frames), [".frame_0007.png.spare"]);
+
+        let new = frames.join("frame_0000.png");
+        let partial = PartialFile::new(&new).unwrap();
+        partial.create().unwrap().write_all(b"new").unwrap();
+        partial.publish().unwrap();
+        assert_eq!(std::fs::read(&new).unwrap(), b"new", "truncated, rewritten");
+        assert_eq!(std::fs::metadata(&new).unwrap().ino(), old_inode);
+        assert_eq!(names(&frames), ["frame_0000.png"]);
+
+        // The spares left over go when the guard does.
+        std::fs::write(frames.join("frame_0001.png"), b"old").unwrap();
+        keep_as_spare(&frames.join("frame_0001.png")).unwrap();
+        assert_eq!(names(&frames), [".frame_0001.png.spare", "frame_0000.png"]);
+        drop(spares);
+        assert_eq!(names(&frames), ["frame_0000.png"]);
+        assert!(!registry().spares.iter().any(|p| p.starts_with(dir.path())));
     }
 }
