@@ -6,7 +6,9 @@
 //! that a slower spell of a shared machine hits both; each row is the median
 //! wall time over the runs (`ELASTO_BENCH_RUNS`, default 7), and the ratio
 //! is that of the medians. The default videos (APNG and MP4, when ffmpeg is
-//! on `PATH`) and the PNG frames alone are timed too.
+//! on `PATH`) and the PNG frames alone are timed too. Each variant re-runs
+//! into a folder of its own with `--force`, as a user re-renders a scene
+//! (its frames reuse the files of its previous run's).
 
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -26,11 +28,11 @@ fn main() {
     ];
     let mut times: Vec<Vec<Duration>> = vec![Vec::new(); variants.len()];
     for _ in 0..runs {
-        for ((_, flags), times) in variants.iter().zip(&mut times) {
+        for (index, ((_, flags), times)) in variants.iter().zip(&mut times).enumerate() {
             let start = Instant::now();
             let status = Command::new(env!("CARGO_BIN_EXE_elasto"))
                 .args(["run", "--quiet", "--force", "--out"])
-                .arg(out.path())
+                .arg(out.path().join(format!("variant-{index}")))
                 .args(*flags)
                 .status()
                 .expect("elasto runs");
