@@ -101,10 +101,12 @@ impl OutputDir {
             if !folder.is_dir() {
                 continue;
             }
-            let entries =
-                std::fs::read_dir(&folder).map_err(OutputError::io("read folder", &folder))?;
+            // Listed before anything is renamed, so that a spare made here
+            // is not listed again.
+            let entries = std::fs::read_dir(&folder)
+                .and_then(|entries| entries.collect::<Result<Vec<_>, _>>())
+                .map_err(OutputError::io("read folder", &folder))?;
             for entry in entries {
-                let entry = entry.map_err(OutputError::io("read folder", &folder))?;
                 let name = entry.file_name().to_string_lossy().into_owned();
                 if !ours_inside(&name) || name.ends_with(".partial") {
                     continue;
