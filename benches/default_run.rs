@@ -8,7 +8,7 @@
 //! is that of the medians. The default videos (APNG and MP4, when ffmpeg is
 //! on `PATH`) and the PNG frames alone are timed too. Each variant re-runs
 //! into a folder of its own with `--force`, as a user re-renders a scene
-//! (its frames reuse the files of its previous run's).
+//! (its frames reuse the files of its previous run).
 
 use std::process::Command;
 use std::time::{Duration, Instant};
