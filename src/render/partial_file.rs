@@ -31,7 +31,7 @@
 //! left by a killed process is taken again by the next `--force` run.
 
 use super::RenderError;
-use super::image_file::temporary_path;
+use super::image_file::{hidden_path, temporary_path};
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus};
@@ -84,15 +84,6 @@ pub fn remove_partial_files() -> usize {
         .count()
 }
 
-/// The hidden name under which a file of an earlier run waits to be reused.
-fn spare_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.spare"))
-}
-
 /// Hides `path`, a file of an earlier run that this run replaces, as a spare
 /// whose inode the next partial file in its folder takes (see the module
 /// documentation); a file that is not a regular file with a single link, or
@@ -113,7 +104,7 @@ pub(crate) fn keep_as_spare(path: &Path) -> std::io::Result<()> {
     let spare = if is_spare {
         path.to_owned()
     } else {
-        let spare = spare_path(path);
+        let spare = hidden_path(path, "spare");
         if std::fs::rename(path, &spare).is_err() {
             return std::fs::remove_file(path);
         }

@@ -299,6 +299,7 @@ impl Renderer {
     pub fn render_multisampled(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
         self.shape.check(frame)?;
         self.fill_buffers(frame);
+        self.upload_lines();
         self.fill_surface(frame);
         self.upload_surface();
         self.draw_whole_image()?;
@@ -517,14 +518,20 @@ impl Renderer {
     }
 
     /// Builds this frame's colours, body, edges and uniforms and uploads
-    /// them: the body as its 2D tile draws it, or the 3D surface.
+    /// them: the body as its 2D tile draws it, or the 3D surface. A 2D
+    /// tile's draw uploads the uniforms itself, with its tile transform.
     fn fill_buffers(&mut self, frame: &RenderFrame) {
         self.look
             .element_colours(frame, self.mesh.element_count, &mut self.colour_scratch);
         self.look
             .lines(&self.mesh.edges, &frame.positions, &mut self.line_scratch);
         self.look.follow_body(&frame.positions);
-        self.upload_lines();
+        if self.backdrop.is_some() {
+            // A tile's draw writes the uniforms itself, with its transform.
+            self.upload_line_instances();
+        } else {
+            self.upload_lines();
+        }
         match &mut self.backdrop {
             Some(Backdrop { body, .. }) => {
                 body.topology.fill(
@@ -580,11 +587,17 @@ impl Renderer {
 
     /// Uploads the uniforms and lines built for the next draw.
     fn upload_lines(&self) {
-        let queue = &self.gpu.queue;
-        let r = &self.resources;
-        queue.write_buffer(&r.uniforms, 0, bytemuck::bytes_of(self.look.globals()));
-        queue.write_buffer(
-            &r.line_instances,
+        let globals = bytemuck::bytes_of(self.look.globals());
+        self.gpu
+            .queue
+            .write_buffer(&self.resources.uniforms, 0, globals);
+        self.upload_line_instances();
+    }
+
+    /// Uploads the lines built for the next draw.
+    fn upload_line_instances(&self) {
+        self.gpu.queue.write_buffer(
+            &self.resources.line_instances,
             0,
             bytemuck::cast_slice(&self.line_scratch),
         );
