@@ -11,7 +11,7 @@
 //! The modules form layers, lowest first: `math` → `mesh`, `material` →
 //! `assembly` → `energy` → `solver` → `integrator` → `sim` → `output`,
 //! `render`, `compare`, `study` → `scene` → `sweep` → `app`. No module refers to a layer above
-//! its own; `tests/layering.rs` holds the order and enforces it.
+//! its own; `tests/integration/layering.rs` holds the order and enforces it.
 #![warn(missing_docs)]
 // `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

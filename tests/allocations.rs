@@ -9,6 +9,7 @@
 //! Everything runs in one test function: the counter is global, and tests of
 //! one binary run on parallel threads.
 
+#[path = "integration/support/mod.rs"]
 mod support;
 
 use elasto::assembly::SparseHessian;

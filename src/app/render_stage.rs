@@ -8,7 +8,7 @@
 //! one value per element, no images) and rendered after the simulation.
 //! Keeping the frames is the cheap first pass: the simulation runs once, and
 //! its frames are drawn after it exactly as they would have been while it
-//! ran (`tests/render_streaming.rs` checks both give the same files).
+//! ran (`tests/integration/render_streaming.rs` checks both give the same files).
 //!
 //! The renderer's device, pipelines and buffers need no frame: they are made
 //! on a thread of their own from the moment the stage is made

@@ -11,7 +11,7 @@ use super::CompareError;
 /// The defaults, `mean ≤ 0.02` and `99.9th percentile ≤ 0.1` (at most 0.1%
 /// of the pixels may show a FLIP error above 0.1), come from measurements on
 /// 320×240 frames of an anti-aliased body of flat-coloured cells with dark
-/// edges on a light background (`tests/compare_flip.rs` checks them):
+/// edges on a light background (`tests/integration/compare_flip.rs` checks them):
 ///
 /// | change to the frame                        | mean        | p99.9       |
 /// |--------------------------------------------|-------------|-------------|

@@ -30,7 +30,7 @@
 //! the resolved ones far less (its energy loss per period is `O(dt^3)`
 //! against backward Euler's `O(dt)`). For a constant acceleration it is
 //! exact once started: the backward-Euler start leaves a constant offset
-//! of `3/4 dt^2 a` in the positions (`tests/integrators.rs`), and the
+//! of `3/4 dt^2 a` in the positions (`tests/integration/integrators.rs`), and the
 //! velocities are exact.
 
 use super::TimeIntegrator;

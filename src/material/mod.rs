@@ -14,7 +14,7 @@
 //! 2. In this file: one arm in [`Material`], one in [`MaterialModel`] (its
 //!    scene name), and one in each of the `match`es below and in
 //!    `with_material!` (the static dispatch the elasticity term uses).
-//! 3. An entry in the `materials()` list of `tests/derivatives.rs`, which
+//! 3. An entry in the `materials()` list of `tests/integration/derivatives.rs`, which
 //!    checks `P` and `dP/dF` (and the element gradient and Hessian) against
 //!    central finite differences in 2D and 3D.
 //!
@@ -55,7 +55,7 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     /// `diag(sigma)`, Smith et al. 2019) in closed form, for the element
     /// kernel's PSD projection. `None`, the default, has the kernel rotate
     /// `dP/dF` into the frame instead (the same blocks, at about a thousand
-    /// multiplications in 3D); `tests/derivatives.rs` checks that the two
+    /// multiplications in 3D); `tests/integration/derivatives.rs` checks that the two
     /// agree for every material that has them.
     fn stress_derivative_in_svd_frame(&self, _sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
         None

@@ -1,0 +1,103 @@
+//! Helpers shared by the command-line tests.
+#![allow(dead_code)]
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+/// Runs the real binary with `args` in `cwd`.
+pub fn elasto(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_elasto"))
+        .args(args)
+        .current_dir(cwd)
+        .env_remove("RUST_BACKTRACE")
+        .output()
+        .expect("the elasto binary runs")
+}
+
+/// Stdout as text.
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// Stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts the exit code, showing the output when it differs.
+pub fn assert_code(o: &Output, code: i32) {
+    assert_eq!(
+        o.status.code(),
+        Some(code),
+        "stdout:\n{}\nstderr:\n{}",
+        stdout(o),
+        stderr(o)
+    );
+}
+
+/// The CSV header and rows of a stats file.
+pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The column names stats.csv must start with, in order.
+pub const REQUIRED_COLUMNS: &[&str] = &[
+    "frame",
+    "time",
+    "newton_iters",
+    "linear_solves",
+    "backtracks",
+    "kinetic",
+    "elastic",
+    "gravity",
+    "barrier",
+    "total_energy",
+    "com_x",
+    "com_y",
+    "com_z",
+    "min_height",
+    "min_volume_ratio",
+    "sim_ms",
+    "unconverged_steps",
+    "stalled_steps",
+    "assembly_ms",
+    "factorisation_ms",
+    "solve_ms",
+    "line_search_ms",
+    "render_ms",
+    "encode_ms",
+];
+
+/// A small valid 2D scene file text (falls onto a ground).
+pub const SMALL_SCENE: &str = r#"dimension = 2
+
+[mesh]
+size = [1.0, 1.0]
+cells = [2, 2]
+offset = [0.0, 1.0]
+
+[material]
+model = "stvk"
+young = 300.0
+poisson = 0.3
+
+[time]
+frames = 4
+
+[effects.gravity]
+acceleration = [0.0, -1.0]
+
+[effects.ground]
+height = 0.0
+"#;

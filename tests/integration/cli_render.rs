@@ -1,0 +1,230 @@
+//! `elasto run` with rendering: PNG frames and the animated PNG video.
+
+use crate::cli_common as common;
+#[cfg(unix)]
+use crate::fake_ffmpeg;
+use common::*;
+
+#[test]
+fn a_render_run_writes_png_frames_and_an_apng() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto(
+        tmp.path(),
+        &[
+            "run",
+            "--frames",
+            "2",
+            "--resolution",
+            "160x120",
+            "--video",
+            "apng",
+            "--out",
+            "r",
+        ],
+    );
+    assert_code(&o, 0);
+    for i in 0..2 {
+        let png = image::open(tmp.path().join(format!("r/frames/frame_{i:04}.png"))).unwrap();
+        assert_eq!((png.width(), png.height()), (160, 120));
+    }
+    assert!(!tmp.path().join("r/frames/frame_0002.png").exists());
+    let apng = std::fs::read(tmp.path().join("r/video.png")).unwrap();
+    assert_eq!(&apng[..8], b"\x89PNG\r\n\x1a\n");
+    assert!(
+        apng.windows(4).any(|w| w == b"acTL"),
+        "video.png is animated"
+    );
+}
+
+#[test]
+fn mp4_without_ffmpeg_is_refused_before_any_work() {
+    let tmp = tempfile::tempdir().unwrap();
+    let empty = tmp.path().join("empty-path");
+    std::fs::create_dir(&empty).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_elasto"))
+        .args(["run", "--frames", "2", "--video", "mp4", "--out", "v"])
+        .current_dir(tmp.path())
+        .env("PATH", &empty)
+        .output()
+        .unwrap();
+    assert_code(&o, 2);
+    assert!(
+        stderr(&o).contains("--video mp4") && stderr(&o).contains("ffmpeg"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!tmp.path().join("v").exists());
+    // `auto` falls back to APNG alone.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_elasto"))
+        .args([
+            "run",
+            "--frames",
+            "2",
+            "--resolution",
+            "64x48",
+            "--out",
+            "a",
+            "-q",
+        ])
+        .current_dir(tmp.path())
+        .env("PATH", &empty)
+        .output()
+        .unwrap();
+    assert_code(&o, 0);
+    assert!(tmp.path().join("a/video.png").exists());
+    assert!(!tmp.path().join("a/video.mp4").exists());
+}
+
+/// With a fixed camera and colour range, `run` renders while it simulates
+/// (one "simulate+render" phase); with the automatic ones it renders after
+/// (a separate "render" phase). Both write every frame and the video.
+#[test]
+fn a_fixed_camera_and_range_render_while_simulating() {
+    let tmp = tempfile::tempdir().unwrap();
+    let common = [
+        "run",
+        "--frames",
+        "3",
+        "--resolution",
+        "96x64",
+        "--video",
+        "apng",
+    ];
+    let fixed = [
+        "--set",
+        "render.camera.center=[0.5, 9.0]",
+        "--set",
+        "render.camera.height=6.0",
+        "--set",
+        "render.range=[0.0, 0.5]",
+    ];
+    let streamed = elasto(
+        tmp.path(),
+        &[&common[..], &fixed[..], &["--out", "streamed"]].concat(),
+    );
+    assert_code(&streamed, 0);
+    let log = stderr(&streamed);
+    assert!(log.contains("simulate+render: 3/3 frames"), "{log}");
+    assert!(
+        !log.contains("\nrender:") && !log.starts_with("render:"),
+        "{log}"
+    );
+
+    let deferred = elasto(tmp.path(), &[&common[..], &["--out", "deferred"]].concat());
+    assert_code(&deferred, 0);
+    let log = stderr(&deferred);
+    assert!(log.contains("simulate: 3/3 frames"), "{log}");
+    assert!(log.contains("render: 3/3 frames"), "{log}");
+
+    for run in ["streamed", "deferred"] {
+        for i in 0..3 {
+            let frame = tmp.path().join(format!("{run}/frames/frame_{i:04}.png"));
+            assert!(image::open(&frame).is_ok(), "{}", frame.display());
+        }
+        assert!(tmp.path().join(run).join("video.png").exists(), "{run}");
+    }
+}
+
+/// A run asks ffmpeg for its encoders once, not once per check (choosing
+/// the videos, validating them, opening the writer each asked, at about
+/// 0.1 s a time before the first frame).
+#[cfg(unix)]
+#[test]
+fn a_run_lists_ffmpegs_encoders_once() {
+    // Reads the frames it is fed and exits: the MP4 is empty but complete.
+    let fake = fake_ffmpeg::FakeFfmpeg::new("cat > /dev/null");
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = fake
+        .elasto(&[
+            "run",
+            "--frames",
+            "3",
+            "--resolution",
+            "64x48",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert_code(&o, 0);
+    assert!(out.join("video.mp4").exists());
+    assert_eq!(fake.encoder_listings(), 1);
+}
+
+/// `--force` over an earlier, longer run: the earlier frames' files are
+/// reused for the new ones (their inodes, on Unix) and the rest removed, so
+/// the folder holds exactly the new frames, the same bytes as a fresh run,
+/// with no hidden spare or partial file left; a frame with a second hard
+/// link is not reused, so the other name keeps the earlier bytes.
+#[test]
+fn a_forced_rerun_reuses_the_earlier_frames_files_and_leaves_only_its_own() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |out: &str, frames: &str, force: bool| {
+        let mut args = vec![
+            "run",
+            "--frames",
+            frames,
+            "--resolution",
+            "160x120",
+            "--video",
+            "none",
+            "--out",
+            out,
+            "-q",
+        ];
+        if force {
+            args.push("--force");
+        }
+        assert_code(&elasto(tmp.path(), &args), 0);
+    };
+    let names = |dir: &str| {
+        let mut names: Vec<String> = std::fs::read_dir(tmp.path().join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    run("fresh", "3", false);
+    run("o", "5", false);
+    let old_frame = std::fs::read(tmp.path().join("o/frames/frame_0000.png")).unwrap();
+    std::fs::hard_link(
+        tmp.path().join("o/frames/frame_0000.png"),
+        tmp.path().join("kept.png"),
+    )
+    .unwrap();
+    #[cfg(unix)]
+    let inode = |path: &std::path::Path| {
+        std::os::unix::fs::MetadataExt::ino(&std::fs::metadata(path).unwrap())
+    };
+    #[cfg(unix)]
+    let old_inodes: Vec<u64> = (1..5)
+        .map(|i| inode(&tmp.path().join(format!("o/frames/frame_{i:04}.png"))))
+        .collect();
+
+    run("o", "3", true);
+    assert_eq!(names("o/frames"), names("fresh/frames"));
+    assert_eq!(
+        names("o/frames"),
+        ["frame_0000.png", "frame_0001.png", "frame_0002.png"]
+    );
+    for name in names("o/frames") {
+        let path = |dir: &str| tmp.path().join(dir).join("frames").join(&name);
+        assert_eq!(
+            std::fs::read(path("o")).unwrap(),
+            std::fs::read(path("fresh")).unwrap(),
+            "{name}"
+        );
+        #[cfg(unix)]
+        assert!(
+            old_inodes.contains(&inode(&path("o"))),
+            "{name} was written to a new file, not an earlier frame's"
+        );
+    }
+    assert_eq!(
+        std::fs::read(tmp.path().join("kept.png")).unwrap(),
+        old_frame
+    );
+}

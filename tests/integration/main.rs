@@ -1,0 +1,62 @@
+//! elasto's integration tests, in one test binary.
+//!
+//! Each test binary links the whole of elasto with wgpu, faer and the rest:
+//! one binary per file meant 41 links of about 50 MB each (360 MB each with
+//! full debug information, 15 GB in all, which filled a CI machine's disk)
+//! and about ten minutes of CI. Here each file is a module, so
+//! `cargo test --test integration golden_scenes` runs one file's tests.
+//!
+//! Two tests stay binaries of their own, because they change the whole
+//! process: `tests/allocations.rs` installs a counting global allocator and
+//! `tests/render_no_ffmpeg.rs` empties `PATH`.
+
+// Helpers shared by the modules below (`support` also brings the
+// `both_dimensions!` macro).
+#[macro_use]
+mod support;
+mod cli_common;
+#[cfg(unix)]
+mod fake_ffmpeg;
+mod render_support;
+
+mod analytic;
+mod cli_compare;
+mod cli_errors;
+mod cli_mesh_files;
+mod cli_render;
+mod cli_run;
+mod cli_scenes;
+mod cli_study;
+mod cli_sweep;
+mod compare_cli;
+mod compare_flip;
+mod derivatives;
+mod determinism;
+mod element_fields;
+mod golden_scenes;
+mod hard_cases;
+mod integrators;
+mod layering;
+mod mesh;
+mod mesh_import;
+mod moving_boundaries;
+mod readme_manual;
+mod regression_bad_input_caught_late;
+mod regression_gradient_descent_never_moved;
+mod regression_interrupt_left_partial_video;
+mod regression_loose_tolerance_froze_the_body;
+mod regression_silent_bad_results;
+mod regression_stuck_ffmpeg_hung_the_run;
+mod regression_stvk_folded_inside_out;
+mod regression_writes_outside_output_folder;
+mod render_export;
+mod render_image;
+mod render_pipeline;
+mod render_profile;
+mod render_streaming;
+mod report_example;
+mod scene_properties;
+mod scene_validation;
+mod solver_options;
+mod stability;
+mod surface_export;

@@ -1,0 +1,140 @@
+//! `elasto run --profile` and the rendering columns of `stats.csv`: the
+//! table names every phase with numbers that add up, `render_ms` and
+//! `encode_ms` are positive for every rendered frame (streamed or rendered
+//! after the simulation) and 0 without rendering.
+
+use crate::cli_common as common;
+use common::*;
+
+/// The numbers of the table row of `phase` on stdout.
+fn row(table: &str, phase: &str) -> Vec<f64> {
+    let line = table
+        .lines()
+        .find(|l| l.starts_with(phase))
+        .unwrap_or_else(|| panic!("no row `{phase}` in:\n{table}"));
+    line[phase.len()..]
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect()
+}
+
+fn cell(header: &[String], row: &[String], name: &str) -> f64 {
+    let i = header.iter().position(|c| c == name).unwrap();
+    row[i]
+        .parse()
+        .unwrap_or_else(|_| panic!("{name} = `{}`", row[i]))
+}
+
+/// Runs the small scene, 5 frames at 64x48, with `extra` flags.
+fn run(dir: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    std::fs::write(
+        dir.join("scene.toml"),
+        SMALL_SCENE.replace("frames = 4", "frames = 5"),
+    )
+    .unwrap();
+    let mut args = vec!["run", "scene.toml", "--resolution", "64x48", "--out", "r"];
+    args.extend(extra);
+    elasto(dir, &args)
+}
+
+#[test]
+fn profile_prints_every_phase_and_stats_carry_render_times() {
+    let tmp = tempfile::tempdir().unwrap();
+    // The automatic camera: rendered after the simulation, from kept frames.
+    let o = run(tmp.path(), &["--profile", "--video", "apng", "--quiet"]);
+    assert_code(&o, 0);
+    let table = stdout(&o);
+    for phase in [
+        "assembly",
+        "factorisation",
+        "solve",
+        "line search",
+        "other simulation",
+    ] {
+        let [frames, median, total] = row(&table, phase)[..] else {
+            panic!("{phase}: {table}")
+        };
+        assert_eq!(frames, 4.0, "frame 0 is not simulated: {table}");
+        assert!(median >= 0.0 && total >= 0.0, "{table}");
+    }
+    let mut rendering_total = 0.0;
+    for phase in [
+        "draw",
+        "readback",
+        "legend",
+        "PNG encode + write",
+        "video encode + write",
+    ] {
+        let [frames, median, total] = row(&table, phase)[..] else {
+            panic!("{phase}: {table}")
+        };
+        assert_eq!(frames, 5.0, "{table}");
+        // The median of 5 values is at most their sum.
+        assert!(median / 1e3 <= total + 1e-3, "{phase}: {table}");
+        rendering_total += total;
+    }
+    assert!(row(&table, "draw")[2] > 0.0, "{table}");
+    let wall = row(&table, "wall time of the run");
+    assert_eq!(wall.len(), 1, "{table}");
+    assert!(wall[0] > 0.0);
+
+    let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
+    assert_eq!(rows.len(), 5);
+    let mut render_sum = 0.0;
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(cell(&header, r, "frame"), i as f64, "rows in frame order");
+        let (render, encode) = (cell(&header, r, "render_ms"), cell(&header, r, "encode_ms"));
+        assert!(render > 0.0 && encode > 0.0, "frame {i}: {render} {encode}");
+        render_sum += render + encode;
+    }
+    // The columns and the table measure the same work (3 decimals in the CSV).
+    assert!(
+        (render_sum / 1e3 - rendering_total).abs() < 0.01 + 0.01 * rendering_total,
+        "stats {render_sum} ms, table {rendering_total} s"
+    );
+}
+
+#[test]
+fn a_streamed_run_also_has_render_times_in_every_row() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A fixed camera and range: frames are rendered while simulating.
+    let o = run(
+        tmp.path(),
+        &[
+            "--video",
+            "none",
+            "--quiet",
+            "--set",
+            "render.camera.center=[0.5, 1.0]",
+            "--set",
+            "render.camera.height=3.0",
+            "--set",
+            "render.range=[0.0, 1.0]",
+        ],
+    );
+    assert_code(&o, 0);
+    assert!(stdout(&o).is_empty(), "no table without --profile");
+    let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
+    assert_eq!(rows.len(), 5);
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(cell(&header, r, "frame"), i as f64);
+        assert!(cell(&header, r, "render_ms") > 0.0, "frame {i}");
+        assert!(cell(&header, r, "encode_ms") > 0.0, "frame {i}");
+    }
+}
+
+#[test]
+fn without_rendering_the_render_times_are_zero() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = run(tmp.path(), &["--no-render", "--profile", "--quiet"]);
+    assert_code(&o, 0);
+    let table = stdout(&o);
+    assert_eq!(row(&table, "assembly")[0], 4.0);
+    assert!(!table.contains("draw"), "{table}");
+    let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
+    assert_eq!(rows.len(), 5);
+    for r in &rows {
+        assert_eq!(cell(&header, r, "render_ms"), 0.0);
+        assert_eq!(cell(&header, r, "encode_ms"), 0.0);
+    }
+}
