@@ -10,12 +10,16 @@ struct VsOut {
 
 @vertex
 fn vs_main(@builtin(vertex_index) index: u32) -> VsOut {
-    // (-1, -1), (3, -1), (-1, 3): covers the whole viewport.
+    // (-1, -1), (3, -1), (-1, 3): covers the whole viewport, the tile's
+    // target when a tile is drawn (see `to_tile`).
     let uv = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
     let ndc = uv * 2.0 - 1.0;
+    // The same point in the whole image (`ndc` itself when the whole image
+    // is drawn).
+    let whole_y = (ndc.y - g.tile.w) / g.tile.y;
     var out: VsOut;
     out.clip = vec4<f32>(ndc, 1.0, 1.0);
-    out.v = 0.5 - 0.5 * ndc.y;
+    out.v = 0.5 - 0.5 * whole_y;
     return out;
 }
 

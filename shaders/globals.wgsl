@@ -22,7 +22,7 @@ struct Globals {
     // The two ground colours (fill and hatching in 2D, checker in 3D), linear RGB.
     ground_light: vec4<f32>,
     ground_dark: vec4<f32>,
-    // 2D body tile (src/render/body_tile.rs): clip-space scale (xy) and
+    // Frame tile (src/render/body_tile.rs in 2D, scene_tile.rs in 3D): clip-space scale (xy) and
     // offset (zw) from the whole image to the tile's target; (1, 1, 0, 0)
     // when the whole image is drawn.
     tile: vec4<f32>,

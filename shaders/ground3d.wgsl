@@ -20,7 +20,7 @@ fn vs_main(@builtin(vertex_index) index: u32) -> VsOut {
     let extent = g.ground_center.z;
     let world = vec3<f32>(g.ground_center.x + c.x * extent, g.ground.x, g.ground_center.y + c.y * extent);
     var out: VsOut;
-    out.clip = g.view_proj * vec4<f32>(world, 1.0);
+    out.clip = to_tile(g.view_proj * vec4<f32>(world, 1.0));
     out.world = world;
     return out;
 }

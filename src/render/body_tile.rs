@@ -47,12 +47,12 @@ const CAPACITY_STEP: u32 = 64;
 /// fringes under one pixel), so two leave room for rounding.
 const MARGIN_PIXELS: f32 = 2.0;
 
-/// The pixels a 2D frame's body can touch in a `width × height` image:
-/// every vertex at `positions`, projected by `view_proj`, with the reach of
-/// an edge line `line_width` pixels wide (its square caps and the pixel its
+/// The pixels a frame's body can touch in a `width × height` image: every
+/// vertex at `positions`, projected by `view_proj`, with the reach of an
+/// edge line `line_width` pixels wide (its square caps and the pixel its
 /// coverage quad adds) and a margin. `None` when the body is entirely
 /// outside the image; the whole image when a position does not project to
-/// a finite pixel.
+/// a finite pixel in front of the eye.
 pub(super) fn body_rect(
     view_proj: &Matrix4<f32>,
     positions: &[[f32; 3]],
@@ -60,17 +60,31 @@ pub(super) fn body_rect(
     width: u32,
     height: u32,
 ) -> Option<PixelRect> {
-    let (w, h) = (width as f32, height as f32);
     // A square cap reaches half the width along and across the line.
     let reach = line_width * std::f32::consts::FRAC_1_SQRT_2 + MARGIN_PIXELS;
+    projected_rect(view_proj, positions.iter().copied(), reach, width, height)
+}
+
+/// The pixel rectangle holding the projections of `points` by `view_proj`,
+/// `reach` pixels further all round, clamped to the `width × height` image:
+/// `None` when it is entirely outside, the whole image when a point does not
+/// project to a finite pixel in front of the eye (clip `w > 0`).
+pub(super) fn projected_rect(
+    view_proj: &Matrix4<f32>,
+    points: impl IntoIterator<Item = [f32; 3]>,
+    reach: f32,
+    width: u32,
+    height: u32,
+) -> Option<PixelRect> {
+    let (w, h) = (width as f32, height as f32);
     let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
-    for position in positions {
-        let clip = view_proj * Vector4::new(position[0], position[1], position[2], 1.0);
+    for point in points {
+        let clip = view_proj * Vector4::new(point[0], point[1], point[2], 1.0);
         let p = [
             (clip.x / clip.w + 1.0) * 0.5 * w,
             (1.0 - clip.y / clip.w) * 0.5 * h,
         ];
-        if !p.iter().all(|c| c.is_finite()) {
+        if !(clip.w > 0.0 && p.iter().all(|c| c.is_finite())) {
             return Some(PixelRect::new(0, 0, width, height));
         }
         for axis in 0..2 {
@@ -85,6 +99,36 @@ pub(super) fn body_rect(
     let (x0, x1) = (clamp(lo[0].floor(), width), clamp(hi[0].ceil(), width));
     let (y0, y1) = (clamp(lo[1].floor(), height), clamp(hi[1].ceil(), height));
     (x1 > x0 && y1 > y0).then_some(PixelRect::new(x0, y0, x1 - x0, y1 - y0))
+}
+
+/// The capacity of a tile target that holds `needed` pixels, grown from
+/// `had` in steps of `CAPACITY_STEP`, never beyond the image's `size`.
+pub(super) fn grown_capacity(needed: (u32, u32), had: (u32, u32), size: (u32, u32)) -> (u32, u32) {
+    let grown =
+        |need: u32, had: u32, size: u32| need.max(had).next_multiple_of(CAPACITY_STEP).min(size);
+    (
+        grown(needed.0, had.0, size.0),
+        grown(needed.1, had.1, size.1),
+    )
+}
+
+/// The tile at `rect`, which the tile's submission copied into `readback`
+/// (rows `padded_row_bytes(rect.width)` apart): waits for the copy and
+/// maps it.
+pub(super) fn read_patch(
+    gpu: &Gpu,
+    readback: &wgpu::Buffer,
+    rect: PixelRect,
+) -> Result<Patch, RenderError> {
+    let mut pixels = Vec::with_capacity((rect.width * rect.height * 4) as usize);
+    read_buffer(
+        gpu,
+        readback,
+        padded_row_bytes(rect.width),
+        (rect.width, rect.height),
+        |_, row| pixels.extend_from_slice(row),
+    )?;
+    Ok(Patch { rect, pixels })
 }
 
 /// `tile` and `tile_origin` of the uniforms for drawing `rect` of a
@@ -251,14 +295,8 @@ impl BodyTiles {
         let needed = (rect.width, rect.height);
         let fits = |t: &TileTarget| t.capacity.0 >= needed.0 && t.capacity.1 >= needed.1;
         if !self.target.as_ref().is_some_and(fits) {
-            let grown = |need: u32, had: u32, size: u32| {
-                need.max(had).next_multiple_of(CAPACITY_STEP).min(size)
-            };
             let had = self.target.as_ref().map_or((0, 0), |t| t.capacity);
-            let capacity = (
-                grown(needed.0, had.0, width),
-                grown(needed.1, had.1, height),
-            );
+            let capacity = grown_capacity(needed, had, self.size);
             let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let out_of_memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
             self.target = Some(TileTarget::new(gpu, capacity));
@@ -361,15 +399,7 @@ impl BodyTiles {
         let (Some(rect), Some(target)) = (rect, &self.target) else {
             return Ok(None);
         };
-        let mut pixels = Vec::with_capacity((rect.width * rect.height * 4) as usize);
-        read_buffer(
-            gpu,
-            &target.readback,
-            padded_row_bytes(rect.width),
-            (rect.width, rect.height),
-            |_, row| pixels.extend_from_slice(row),
-        )?;
-        Ok(Some(Patch { rect, pixels }))
+        read_patch(gpu, &target.readback, rect).map(Some)
     }
 }
 

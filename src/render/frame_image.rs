@@ -1,11 +1,12 @@
 //! [`FrameImage`]: one rendered frame, either a whole image or the run's
 //! fixed base image with a patch over the part that changed.
 //!
-//! In 2D everything but the body is the same in every frame of a run: the
-//! background, the ground and the legend make the *base*, and a frame is the
-//! base with the pixel rectangle around its body replaced (the *patch*, drawn
-//! as a tile, see `body_tile`). Keeping a frame in that form lets everything
-//! downstream work in proportion to what changed instead of to the image:
+//! Everything but the body (and in 3D its contact shadow) is the same in
+//! every frame of a run: the background, the ground and the legend make the
+//! *base*, and a frame is the base with the pixel rectangle around its body
+//! replaced (the *patch*, drawn as a tile, see `body_tile` and
+//! `scene_tile`). Keeping a frame in that form lets everything downstream
+//! work in proportion to what changed instead of to the image:
 //!
 //! - the PNG file reuses the base's rows, filtered and compressed once per
 //!   run, and compresses only the rows the patch crosses (`frame_png`);
@@ -15,7 +16,6 @@
 //!   (the MP4's raw input, the GIF), and then in three spans: the base's rows
 //!   above the patch, the patch's rows composed, the base's rows below.
 //!
-//! 3D frames change everywhere (the shadow, the lighting) and are whole.
 //! Pixels are RGBA8, opaque, sRGB, row-major with no padding.
 
 use image::RgbaImage;

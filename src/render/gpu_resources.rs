@@ -28,7 +28,7 @@ use bytemuck::{Pod, Zeroable};
 /// Format of the colour targets: shaders write linear light, the target
 /// encodes sRGB.
 pub(super) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(super) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Per-run uniforms (see `Globals` in the shaders). Every field is a 16-byte
 /// vector or a matrix of them, so the layout has no implicit padding.
@@ -451,6 +451,20 @@ pub(super) fn resolved_colour_attachment<'a>(
             load: wgpu::LoadOp::Clear(clear),
             store,
         },
+    }
+}
+
+/// The depth attachment of a 3D pass: cleared to the far plane, not stored.
+pub(super) fn depth_attachment(
+    view: &wgpu::TextureView,
+) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(1.0),
+            store: wgpu::StoreOp::Discard,
+        }),
+        stencil_ops: None,
     }
 }
 

@@ -191,6 +191,12 @@ impl Look {
         }
     }
 
+    /// Whether the background is a gradient, drawn as a layer (a plain one
+    /// is the clear colour).
+    pub fn has_gradient(&self) -> bool {
+        self.globals.sky_top != self.globals.sky_bottom
+    }
+
     /// The width in pixels of the mesh's edge lines (0 when none are drawn).
     pub fn edge_width(&self) -> f32 {
         self.edges.map_or(0.0, |(_, width)| width)

@@ -9,11 +9,12 @@
 //! a software one (on a GPU-less Linux machine, the GL backend over Mesa
 //! llvmpipe through EGL). `WGPU_BACKEND` (e.g. `gl`, `vulkan`) restricts the
 //! backends tried. Images are rendered into an sRGB target, with 4x MSAA in
-//! 3D and for the 2D backdrop; a 2D frame draws only the tile around its
-//! body over the run's fixed backdrop (`body_tile`), with one sample per
-//! pixel and the anti-aliasing computed in its shaders (`body_coverage`),
-//! so that a software rasteriser does not clear, shade and resolve four
-//! samples of the whole image for every frame, and the frame stays a
+//! 3D and for the 2D backdrop. A frame draws only the tile around what
+//! changes over the run's fixed backdrop: in 2D the body (`body_tile`),
+//! with one sample per pixel and the anti-aliasing computed in its shaders
+//! (`body_coverage`); in 3D the body and its contact shadow, multisampled
+//! (`scene_tile`). So a software rasteriser does not clear, shade and
+//! resolve four samples of the whole image for every frame, and the frame stays a
 //! patch over the run's base image ([`FrameImage`]) all the way to the
 //! files, so that encoding it costs what the patch costs (`frame_png`, the
 //! APNG's sub-frames in `video`).
@@ -45,6 +46,7 @@ mod mesh_view;
 mod mp4_writer;
 mod partial_file;
 mod renderer;
+mod scene_tile;
 mod sequence;
 mod text;
 mod video;

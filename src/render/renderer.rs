@@ -3,29 +3,32 @@
 //!
 //! A renderer is made once per run: the input checks ([`FrameShape`]), the
 //! run's appearance ([`Look`]: camera, colours, ground, shadow, edges,
-//! legend) and the GPU objects ([`GpuResources`]) are all fixed then, and in
-//! 2D the backdrop (the whole image without the body, see [`BodyTiles`]) and
-//! the base every frame is a patch over (the backdrop with the legend, see
-//! [`FrameImage`]). Each frame then reads as one straight line: check it,
-//! fill the vertex and uniform buffers, draw, read back, stamp the legend
-//! (drawn once on the CPU).
+//! legend), the GPU objects ([`GpuResources`]), the backdrop (the whole
+//! image without the body) and the base every frame is a patch over (the
+//! backdrop with the legend, see [`FrameImage`]) are all fixed then. Each
+//! frame then reads as one straight line: check it, fill the vertex
+//! buffers, draw the tile around what changed, read it back, stamp the
+//! legend where the tile meets it (drawn once on the CPU).
 //!
-//! - **3D** (and [`Renderer::render_multisampled`]): one pass over the whole
-//!   image into a 4x MSAA target with a depth target, resolved to
-//!   `Rgba8UnormSrgb`; the opaque layers nearest first (surface, ground,
-//!   background, then edges), so that hidden samples are rejected before
-//!   they are shaded, with depth tests that give the painter's image (see
-//!   `DepthTest`). The resolved texture is copied to a buffer with rows
-//!   padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, mapped, and the padding
-//!   stripped ([`read_texture`]); the legend is stamped on it.
-//! - **2D**: the backdrop (background, ground, ground line) is drawn once,
-//!   single-sampled, painted back to front. Each frame then draws only the pixel
-//!   rectangle around the body, in a small single-sampled target that
-//!   starts from the backdrop: the surface, the fringes along its boundary
-//!   and the edges, anti-aliased in their shaders (`body_coverage`). The
-//!   copy to the readback buffer goes in the same submission, and the tile
-//!   read back is the frame's patch over the base. Where the tile meets the
-//!   legend, the legend is drawn over the tile's pixels too.
+//! - **3D** ([`SceneTiles`]): the backdrop is one pass over the whole image
+//!   into a 4x MSAA target with a depth target, resolved to
+//!   `Rgba8UnormSrgb`, without the body and its contact shadow. Each frame
+//!   draws the same layers in the tile around the body and its shadow: the
+//!   opaque layers nearest first (surface, ground, background, then edges),
+//!   so that hidden samples are rejected before they are shaded, with depth
+//!   tests that give the painter's image (see `DepthTest`).
+//! - **2D** ([`BodyTiles`]): the backdrop (background, ground, ground line)
+//!   is drawn once, single-sampled, painted back to front. Each frame then
+//!   draws only the pixel rectangle around the body, in a small
+//!   single-sampled target that starts from the backdrop: the surface, the
+//!   fringes along its boundary and the edges, anti-aliased in their
+//!   shaders (`body_coverage`).
+//!
+//! In both, the copy of the tile to the readback buffer goes in the same
+//! submission, with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`, and the
+//! tile read back is the frame's patch over the base.
+//! [`Renderer::render_multisampled`] draws a frame in one multisampled pass
+//! over the whole image instead, the reference the tiles are tested against.
 //!
 //! Colours are computed on the CPU (viridis in sRGB, converted to linear);
 //! shaders work in linear light and the sRGB target encodes on write, so an
@@ -36,8 +39,11 @@ use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_image::{FrameBase, FrameImage, Patch, PixelRect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex, resolved_colour_attachment};
+use super::gpu_resources::{
+    GpuResources, LineInstance, SurfaceVertex, depth_attachment, resolved_colour_attachment,
+};
 use super::look::Look;
+use super::scene_tile::{SceneTiles, scene_rect, shadow_rect};
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector3};
@@ -66,7 +72,8 @@ pub struct Renderer {
     surface_scratch: Vec<SurfaceVertex>,
     line_scratch: Vec<LineInstance>,
     colour_scratch: Vec<[f32; 3]>,
-    /// 2D: what every frame shares, and the tiles each frame's body is drawn in.
+    /// What every frame shares, and the tiles each frame is drawn in (made
+    /// with the renderer, by `PreparedRenderer::complete`).
     backdrop: Option<Backdrop>,
 }
 
@@ -77,14 +84,33 @@ struct Body {
     fringes: Vec<FringeInstance>,
 }
 
-/// The fixed part of a 2D run's frames, and the body drawn over it.
+/// The fixed part of a run's frames, and the tiles drawn over it.
 struct Backdrop {
-    /// The whole image without the body and the legend.
+    /// The whole image without the body (and in 3D its shadow) and the legend.
     image: RgbaImage,
     /// The backdrop with the legend: every frame is a patch over it.
     base: Arc<FrameBase>,
-    tiles: BodyTiles,
-    body: Body,
+    tiles: FrameTiles,
+}
+
+/// How a frame's tile is drawn.
+enum FrameTiles {
+    /// 2D: the body alone, one sample per pixel, over the backdrop's pixels
+    /// (`body_tile`).
+    Body { tiles: BodyTiles, body: Body },
+    /// 3D: everything around the body and its shadow, multisampled
+    /// (`scene_tile`).
+    Scene(SceneTiles),
+}
+
+impl FrameTiles {
+    /// The tile just drawn at `rect`, if any.
+    fn read_back(&self, gpu: &Gpu, rect: Option<PixelRect>) -> Result<Option<Patch>, RenderError> {
+        match self {
+            FrameTiles::Body { tiles, .. } => tiles.read_back(gpu, rect),
+            FrameTiles::Scene(tiles) => tiles.read_back(gpu, rect),
+        }
+    }
 }
 
 /// The part of a [`Renderer`] that needs no frames: the device and the
@@ -173,24 +199,28 @@ impl PreparedRenderer {
             settings,
             mesh,
         };
-        if renderer.mesh.dimension == 2 {
+        let (image, tiles) = if renderer.mesh.dimension == 2 {
             let image = renderer.draw_backdrop()?;
             let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &image)?;
-            let mut base = image.clone();
-            renderer.look.draw_overlay(&mut base);
             let triangles = renderer.mesh.triangles.len();
             let topology = BodyTopology::new(&renderer.mesh);
-            renderer.backdrop = Some(Backdrop {
-                image,
-                base: FrameBase::new(base),
-                tiles,
-                body: Body {
-                    vertices: Vec::with_capacity(3 * triangles),
-                    fringes: Vec::with_capacity(topology.boundary_edges()),
-                    topology,
-                },
-            });
-        }
+            let body = Body {
+                vertices: Vec::with_capacity(3 * triangles),
+                fringes: Vec::with_capacity(topology.boundary_edges()),
+                topology,
+            };
+            (image, FrameTiles::Body { tiles, body })
+        } else {
+            let image = renderer.draw_scene_backdrop()?;
+            (image, FrameTiles::Scene(SceneTiles::new(renderer.size())))
+        };
+        let mut base = image.clone();
+        renderer.look.draw_overlay(&mut base);
+        renderer.backdrop = Some(Backdrop {
+            image,
+            base: FrameBase::new(base),
+            tiles,
+        });
         Ok(renderer)
     }
 }
@@ -262,28 +292,16 @@ impl Renderer {
     }
 
     /// Draws one frame as one whole image, the way its frames are drawn:
-    /// in 2D the body over the backdrop in one tile the size of the image,
-    /// where [`Renderer::render`] draws only the tile around the body (see
-    /// `body_tile`); this is the reference the tiles are checked against,
-    /// and slower. In 3D both are the same.
+    /// in one tile the size of the image, where [`Renderer::render`] draws
+    /// only the tile around the body (in 3D, and its shadow; see
+    /// `body_tile` and `scene_tile`). This is the reference the tiles are
+    /// checked against, and slower.
     pub fn render_whole_image(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
         self.shape.check(frame)?;
         self.fill_buffers(frame);
         let (width, height) = self.size();
-        let Some(backdrop) = &mut self.backdrop else {
-            self.draw_whole_image()?;
-            let mut image = self.read_whole_image()?;
-            self.look.draw_overlay(&mut image);
-            return Ok(image);
-        };
-        let inputs = tile_inputs(
-            &self.resources,
-            &self.look,
-            &backdrop.body,
-            &self.line_scratch,
-        );
-        let whole = PixelRect::new(0, 0, width, height);
-        let rect = backdrop.tiles.draw(&self.gpu, &inputs, Some(whole))?;
+        let rect = self.draw_tile(Some(PixelRect::new(0, 0, width, height)))?;
+        let backdrop = self.backdrop.as_ref().expect("made with the renderer");
         let mut image = backdrop.image.clone();
         if let Some(patch) = backdrop.tiles.read_back(&self.gpu, rect)? {
             patch.paste_into(&mut image);
@@ -293,22 +311,22 @@ impl Renderer {
     }
 
     /// Draws one frame as one whole image with 4x MSAA (when the adapter
-    /// has it) for everything, the body included: in 2D the reference that
-    /// the body's own anti-aliasing (`body_coverage`) is measured against.
-    /// In 3D the same as [`Renderer::render_whole_image`].
+    /// has it) for everything, the body included, in one pass: in 2D the
+    /// reference that the body's own anti-aliasing (`body_coverage`) is
+    /// measured against, in 3D the reference for the tiles' rounding.
     pub fn render_multisampled(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
         self.shape.check(frame)?;
         self.fill_buffers(frame);
         self.upload_lines();
         self.fill_surface(frame);
         self.upload_surface();
-        self.draw_whole_image()?;
+        self.draw_whole_image(&self.layers(self.surface_scratch.len()))?;
         let mut image = self.read_whole_image()?;
         self.look.draw_overlay(&mut image);
         Ok(image)
     }
 
-    /// Draws one frame, in 2D as a patch over the run's base (see
+    /// Draws one frame as a patch over the run's base (see
     /// [`FrameImage`]), and says how long each stage took.
     pub fn render_timed(
         &mut self,
@@ -317,38 +335,32 @@ impl Renderer {
         let start = Instant::now();
         self.shape.check(frame)?;
         self.fill_buffers(frame);
-        let timings = |drawn: Instant, read: Instant| FrameTimings {
-            draw: drawn - start,
-            readback: read - drawn,
-            overlay: read.elapsed(),
-        };
         let (width, height) = self.size();
-        let Some(backdrop) = &mut self.backdrop else {
-            self.draw_whole_image()?;
-            let drawn = Instant::now();
-            let mut image = self.read_whole_image()?;
-            let read = Instant::now();
-            self.look.draw_overlay(&mut image);
-            return Ok((FrameImage::from(image), timings(drawn, read)));
-        };
-        let rect = body_rect(
-            &Matrix4::from(self.look.globals().view_proj),
+        let globals = self.look.globals();
+        let view_proj = Matrix4::from(globals.view_proj);
+        let body = body_rect(
+            &view_proj,
             &frame.positions,
             self.look.edge_width(),
             width,
             height,
         );
-        let inputs = tile_inputs(
-            &self.resources,
-            &self.look,
-            &backdrop.body,
-            &self.line_scratch,
-        );
-        let rect = backdrop.tiles.draw(&self.gpu, &inputs, rect)?;
+        let rect = if self.mesh.dimension == 2 {
+            body
+        } else {
+            let shadow = self
+                .resources
+                .ground
+                .as_ref()
+                .and_then(|_| shadow_rect(globals, width, height));
+            scene_rect(body, shadow)
+        };
+        let rect = self.draw_tile(rect)?;
         let drawn = Instant::now();
+        let backdrop = self.backdrop.as_ref().expect("made with the renderer");
         let patch = backdrop.tiles.read_back(&self.gpu, rect)?;
         let read = Instant::now();
-        // Where the body meets the legend, the legend is drawn over it.
+        // Where the tile meets the legend, the legend is drawn over it.
         let patch = patch.map(|patch| match self.look.overlay_footprint() {
             Some(footprint) if footprint.intersects(&patch.rect) => {
                 let mut image = backdrop.image.clone();
@@ -359,7 +371,54 @@ impl Renderer {
             _ => patch,
         });
         let image = FrameImage::patched(backdrop.base.clone(), patch);
-        Ok((image, timings(drawn, read)))
+        let timings = FrameTimings {
+            draw: drawn - start,
+            readback: read - drawn,
+            overlay: read.elapsed(),
+        };
+        Ok((image, timings))
+    }
+
+    /// Draws the frame whose buffers are filled in the tile at `rect` and
+    /// waits for it (see `body_tile`, `scene_tile`); returns the tile's
+    /// place, or `None` when the frame is the backdrop.
+    fn draw_tile(&mut self, rect: Option<PixelRect>) -> Result<Option<PixelRect>, RenderError> {
+        let backdrop = self.backdrop.as_mut().expect("made with the renderer");
+        match &mut backdrop.tiles {
+            FrameTiles::Body { tiles, body } => {
+                let inputs = tile_inputs(&self.resources, &self.look, body, &self.line_scratch);
+                tiles.draw(&self.gpu, &inputs, rect)
+            }
+            FrameTiles::Scene(tiles) => {
+                let layers = Layers {
+                    resources: &self.resources,
+                    background: self.look.has_gradient(),
+                    surface_vertices: self.surface_scratch.len() as u32,
+                    ground_lines: 0,
+                    lines: self.line_scratch.len() as u32,
+                };
+                let clear = self.look.clear_colour();
+                tiles.draw(&self.gpu, &layers, self.look.globals(), clear, rect)
+            }
+        }
+    }
+
+    /// The 3D backdrop: the whole image without the body and its shadow (no
+    /// legend), multisampled.
+    fn draw_scene_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
+        let mut globals = *self.look.globals();
+        globals.shadow_params[0] = 0.0;
+        self.gpu
+            .queue
+            .write_buffer(&self.resources.uniforms, 0, bytemuck::bytes_of(&globals));
+        self.draw_whole_image(&Layers {
+            resources: &self.resources,
+            background: self.look.has_gradient(),
+            surface_vertices: 0,
+            ground_lines: 0,
+            lines: 0,
+        })?;
+        self.read_whole_image()
     }
 
     /// The 2D backdrop: the whole image without the body (no legend),
@@ -376,7 +435,6 @@ impl Renderer {
             label: Some("backdrop encoder"),
         });
         {
-            let globals = self.look.globals();
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("backdrop pass"),
                 color_attachments: &[Some(resolved_colour_attachment(
@@ -391,7 +449,7 @@ impl Renderer {
             });
             pass.set_bind_group(0, &r.bind_group, &[]);
             // A plain background is the clear colour already.
-            if globals.sky_top != globals.sky_bottom {
+            if self.look.has_gradient() {
                 pass.set_pipeline(&tile.background);
                 pass.draw(0..3, 0..1);
             }
@@ -412,20 +470,16 @@ impl Renderer {
         self.read_whole_image()
     }
 
-    /// Draws the whole image from the filled buffers with 4x MSAA and waits
-    /// for it.
-    fn draw_whole_image(&self) -> Result<(), RenderError> {
+    /// Draws `layers` over the whole image with 4x MSAA and waits for it.
+    fn draw_whole_image(&self, layers: &Layers<'_>) -> Result<(), RenderError> {
         let device = &self.gpu.device;
-        let queue = &self.gpu.queue;
         let r = &self.resources;
-
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("frame encoder"),
         });
         {
-            let globals = self.look.globals();
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("frame pass"),
                 color_attachments: &[Some(resolved_colour_attachment(
@@ -433,71 +487,29 @@ impl Renderer {
                     &r.resolved_view,
                     self.look.clear_colour(),
                 ))],
-                depth_stencil_attachment: r.depth_view.as_ref().map(|depth_view| {
-                    wgpu::RenderPassDepthStencilAttachment {
-                        view: depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Discard,
-                        }),
-                        stencil_ops: None,
-                    }
-                }),
+                depth_stencil_attachment: r.depth_view.as_ref().map(depth_attachment),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_bind_group(0, &r.bind_group, &[]);
-            // A plain background is the clear colour already.
-            let background = (globals.sky_top != globals.sky_bottom).then_some(&r.background);
-            let draw_layer = |pass: &mut wgpu::RenderPass<'_>, pipeline, vertices| {
-                pass.set_pipeline(pipeline);
-                pass.draw(0..vertices, 0..1);
-            };
-            let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
-                if !self.surface_scratch.is_empty() {
-                    pass.set_pipeline(&r.surface);
-                    pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
-                    pass.draw(0..self.surface_scratch.len() as u32, 0..1);
-                }
-            };
-            // Instance 0 is the 2D ground line when there is one: behind the body.
-            let ground_lines = self.look.ground_lines();
-            if r.depth_view.is_some() {
-                // 3D: opaque layers nearest first, so hidden samples are
-                // rejected before shading (see `DepthTest`).
-                draw_surface(&mut pass);
-                if let Some(ground) = &r.ground {
-                    draw_layer(&mut pass, ground, 6);
-                }
-                if let Some(background) = background {
-                    draw_layer(&mut pass, background, 3);
-                }
-            } else {
-                // 2D: painted back to front.
-                if let Some(background) = background {
-                    draw_layer(&mut pass, background, 3);
-                }
-                if let Some(ground) = &r.ground {
-                    draw_layer(&mut pass, ground, 6);
-                }
-                if ground_lines > 0 {
-                    pass.set_pipeline(&r.line);
-                    pass.set_vertex_buffer(0, r.line_instances.slice(..));
-                    pass.draw(0..6, 0..ground_lines);
-                }
-                draw_surface(&mut pass);
-            }
-            if self.line_scratch.len() as u32 > ground_lines {
-                pass.set_pipeline(&r.line);
-                pass.set_vertex_buffer(0, r.line_instances.slice(..));
-                pass.draw(0..6, ground_lines..self.line_scratch.len() as u32);
-            }
+            record_layers(&mut pass, layers);
         }
-        queue.submit([encoder.finish()]);
+        self.gpu.queue.submit([encoder.finish()]);
         check_scope(out_of_memory, "drawing a frame")?;
         check_scope(validation, "drawing a frame")?;
         wait(device, "drawing a frame")
+    }
+
+    /// Everything this frame's filled buffers hold, with `surface_vertices`
+    /// of the surface.
+    fn layers(&self, surface_vertices: usize) -> Layers<'_> {
+        Layers {
+            resources: &self.resources,
+            background: self.look.has_gradient(),
+            surface_vertices: surface_vertices as u32,
+            ground_lines: self.look.ground_lines(),
+            lines: self.line_scratch.len() as u32,
+        }
     }
 
     /// Reads the whole image just drawn back from the GPU.
@@ -518,7 +530,7 @@ impl Renderer {
     }
 
     /// Builds this frame's colours, body, edges and uniforms and uploads
-    /// them: the body as its 2D tile draws it, or the 3D surface. A 2D
+    /// the vertices: the body as its 2D tile draws it, or the 3D surface. A
     /// tile's draw uploads the uniforms itself, with its tile transform.
     fn fill_buffers(&mut self, frame: &RenderFrame) {
         self.look
@@ -526,14 +538,12 @@ impl Renderer {
         self.look
             .lines(&self.mesh.edges, &frame.positions, &mut self.line_scratch);
         self.look.follow_body(&frame.positions);
-        if self.backdrop.is_some() {
-            // A tile's draw writes the uniforms itself, with its transform.
-            self.upload_line_instances();
-        } else {
-            self.upload_lines();
-        }
+        self.upload_line_instances();
         match &mut self.backdrop {
-            Some(Backdrop { body, .. }) => {
+            Some(Backdrop {
+                tiles: FrameTiles::Body { body, .. },
+                ..
+            }) => {
                 body.topology.fill(
                     &self.mesh,
                     &frame.positions,
@@ -554,7 +564,7 @@ impl Renderer {
                     bytemuck::cast_slice(&body.fringes),
                 );
             }
-            None => {
+            _ => {
                 self.fill_surface(frame);
                 self.upload_surface();
             }
@@ -611,6 +621,69 @@ impl Renderer {
             bytemuck::cast_slice(&self.surface_scratch),
         );
     }
+}
+
+/// What one multisampled pass draws, from the renderer's filled buffers:
+/// the whole image ([`Renderer::render_multisampled`], the backdrops) or a
+/// 3D tile (`scene_tile`).
+pub(super) struct Layers<'a> {
+    pub resources: &'a GpuResources,
+    /// Whether the background is a gradient (a plain one is the clear colour).
+    pub background: bool,
+    pub surface_vertices: u32,
+    /// The first line instances, drawn behind the body (the 2D ground line).
+    pub ground_lines: u32,
+    /// All line instances, the ground lines included.
+    pub lines: u32,
+}
+
+/// Records `layers` into `pass`. 3D: the opaque layers nearest first, so
+/// that hidden samples are rejected before they are shaded (see
+/// `DepthTest`), then the edges. 2D: painted back to front.
+pub(super) fn record_layers(pass: &mut wgpu::RenderPass<'_>, layers: &Layers<'_>) {
+    let r = layers.resources;
+    pass.set_bind_group(0, &r.bind_group, &[]);
+    let draw_layer = |pass: &mut wgpu::RenderPass<'_>, pipeline, vertices| {
+        pass.set_pipeline(pipeline);
+        pass.draw(0..vertices, 0..1);
+    };
+    let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
+        if layers.surface_vertices > 0 {
+            pass.set_pipeline(&r.surface);
+            pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
+            pass.draw(0..layers.surface_vertices, 0..1);
+        }
+    };
+    let draw_lines = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
+        if !instances.is_empty() {
+            pass.set_pipeline(&r.line);
+            pass.set_vertex_buffer(0, r.line_instances.slice(..));
+            pass.draw(0..6, instances);
+        }
+    };
+    let background = layers.background.then_some(&r.background);
+    if r.depth_view.is_some() {
+        draw_surface(pass);
+        if let Some(ground) = &r.ground {
+            draw_layer(pass, ground, 6);
+        }
+        if let Some(background) = background {
+            draw_layer(pass, background, 3);
+        }
+    } else {
+        if let Some(background) = background {
+            draw_layer(pass, background, 3);
+        }
+        if let Some(ground) = &r.ground {
+            draw_layer(pass, ground, 6);
+        }
+        draw_lines(pass, 0..layers.ground_lines);
+        draw_surface(pass);
+    }
+    draw_lines(
+        pass,
+        layers.ground_lines..layers.lines.max(layers.ground_lines),
+    );
 }
 
 /// What a 2D frame's tile is drawn with, from the buffers filled for it.

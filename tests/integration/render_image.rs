@@ -454,3 +454,95 @@ fn a_2d_body_tile_shows_what_the_whole_image_shows() {
         );
     }
 }
+
+/// A 3D frame is drawn as a tile around the body and its contact shadow,
+/// pasted into the run's fixed backdrop (`scene_tile`): it must show what
+/// one multisampled pass over the whole image shows, wherever the body is —
+/// high in the air (a wide, faint shadow), resting on the ground, partly
+/// outside the image, above the image with its shadow in view, under the
+/// legend, and with a vertex behind the eye.
+#[test]
+fn a_3d_scene_tile_shows_what_the_whole_image_shows() {
+    use elasto::math::Vector3;
+    use elasto::mesh::Mesh;
+    let mesh =
+        Mesh::<3>::axis_aligned_box(Vector3::zeros(), Vector3::new(1.0, 0.5, 0.8), [3, 2, 2])
+            .expect("a valid box");
+    let render_mesh = RenderMesh::from_mesh(&mesh);
+    // Moved by (dx, dy, dz), sheared, with a field varying across the body.
+    let frame = |dx: f64, dy: f64, dz: f64, shear: f64| {
+        let positions: Vec<_> = mesh
+            .rest_positions()
+            .iter()
+            .map(|p| Vector3::new(p[0] + dx + shear * p[1], p[1] + dy, p[2] + dz))
+            .collect();
+        let values: Vec<f64> = (0..mesh.element_count())
+            .map(|e| mesh.rest_positions()[mesh.simplex(e)[0]][0] + shear)
+            .collect();
+        RenderFrame::from_positions(&positions, &values)
+    };
+    let frames = [
+        frame(0.0, 1.5, 0.0, 0.0),   // high in the air
+        frame(-0.4, 0.0, 0.3, 0.2),  // resting on the ground (y = 0)
+        frame(-3.2, 0.4, 0.0, -0.1), // partly outside on the left
+        frame(0.2, 4.5, -0.5, 0.0),  // above the image, its shadow in view
+        frame(2.4, 0.8, 0.0, 0.1),   // reaching under the legend
+        frame(0.0, 0.5, 5.5, 0.0),   // reaching behind the eye
+    ];
+    let settings = RenderSettings {
+        width: 480,
+        height: 270,
+        camera: Camera::Perspective {
+            eye: [0.0, 2.0, 6.0],
+            target: [0.0, 0.5, 0.0],
+            fov_degrees: 45.0,
+        },
+        colouring: Colouring::Scalar {
+            range: Some([-0.6, 0.8]),
+            label: "value",
+        },
+        draw_edges: true,
+        draw_legend: true,
+        ground_height: Some(0.0),
+        ..RenderSettings::default()
+    };
+    let Some(mut renderer) = renderer_or_skip(&settings, &render_mesh, &frames) else {
+        return;
+    };
+    let mut whole_renderer = Renderer::new(&settings, &render_mesh, &frames).unwrap();
+    let mut prepared = Renderer::prepare(&settings, &render_mesh)
+        .and_then(PreparedRenderer::warmed_up)
+        .and_then(|prepared| prepared.with_frames(&frames))
+        .unwrap();
+    let differing = |a: &image::RgbaImage, b: &image::RgbaImage, above: u8| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(&q.0).any(|(x, y)| x.abs_diff(*y) > above))
+            .count()
+    };
+    for (k, frame) in frames.iter().enumerate() {
+        let tiled = renderer.render(frame).unwrap();
+        assert!(
+            tiled == prepared.render(frame).unwrap(),
+            "frame {k}: the warmed-up renderer draws differently"
+        );
+        let multisampled = whole_renderer.render_multisampled(frame).unwrap();
+        let whole = whole_renderer.render_whole_image(frame).unwrap();
+        assert_eq!(tiled.dimensions(), multisampled.dimensions());
+        // The body moves the image: the backdrop alone would differ a lot.
+        let backdrop_only = differing(&whole, &renderer.render(&frames[4]).unwrap(), 8);
+        assert!(k == 4 || backdrop_only > 500, "frame {k}: {backdrop_only}");
+        for (reference, name) in [(&multisampled, "one pass"), (&whole, "one whole tile")] {
+            // The tile's positions go through one more multiply-add and the
+            // ground's shading rounds differently in a few hundred pixels
+            // (one level); a sample on an edge may fall the other way.
+            let by_more_than_one = differing(&tiled, reference, 1);
+            let at_all = differing(&tiled, reference, 0);
+            assert!(
+                by_more_than_one <= 4 && at_all <= 100,
+                "frame {k} against {name}: {by_more_than_one} pixels differ by more than \
+                 one level, {at_all} at all"
+            );
+        }
+    }
+}
