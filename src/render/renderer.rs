@@ -394,7 +394,7 @@ impl Renderer {
                     resources: &self.resources,
                     background: self.look.has_gradient(),
                     surface_vertices: self.surface_scratch.len() as u32,
-                    ground_lines: 0,
+                    ground_lines: self.look.ground_lines(),
                     lines: self.line_scratch.len() as u32,
                 };
                 let clear = self.look.clear_colour();
