@@ -101,15 +101,34 @@ pub(super) fn projected_rect(
     (x1 > x0 && y1 > y0).then_some(PixelRect::new(x0, y0, x1 - x0, y1 - y0))
 }
 
-/// The capacity of a tile target that holds `needed` pixels, grown from
-/// `had` in steps of `CAPACITY_STEP`, never beyond the image's `size`.
-pub(super) fn grown_capacity(needed: (u32, u32), had: (u32, u32), size: (u32, u32)) -> (u32, u32) {
-    let grown =
-        |need: u32, had: u32, size: u32| need.max(had).next_multiple_of(CAPACITY_STEP).min(size);
-    (
-        grown(needed.0, had.0, size.0),
-        grown(needed.1, had.1, size.1),
-    )
+/// The tile target in `slot`, first replaced by a larger one when it
+/// cannot hold `needed` pixels: made by `make` with the capacity grown from
+/// the old one's in steps of `CAPACITY_STEP`, never beyond the image's
+/// `size`.
+pub(super) fn tile_target<'a, T>(
+    gpu: &Gpu,
+    slot: &'a mut Option<T>,
+    capacity_of: impl Fn(&T) -> (u32, u32),
+    make: impl FnOnce(&Gpu, (u32, u32)) -> T,
+    needed: (u32, u32),
+    size: (u32, u32),
+) -> Result<&'a T, RenderError> {
+    let had = slot.as_ref().map_or((0, 0), &capacity_of);
+    if had.0 < needed.0 || had.1 < needed.1 {
+        let grown = |need: u32, had: u32, size: u32| {
+            need.max(had).next_multiple_of(CAPACITY_STEP).min(size)
+        };
+        let capacity = (
+            grown(needed.0, had.0, size.0),
+            grown(needed.1, had.1, size.1),
+        );
+        let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out_of_memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        *slot = Some(make(gpu, capacity));
+        check_scope(out_of_memory, "creating a tile target")?;
+        check_scope(validation, "creating a tile target")?;
+    }
+    Ok(slot.as_ref().expect("a tile target was just made"))
 }
 
 /// The tile at `rect`, which the tile's submission copied into `readback`
@@ -292,18 +311,14 @@ impl BodyTiles {
             return Ok(None);
         };
         let (width, height) = self.size;
-        let needed = (rect.width, rect.height);
-        let fits = |t: &TileTarget| t.capacity.0 >= needed.0 && t.capacity.1 >= needed.1;
-        if !self.target.as_ref().is_some_and(fits) {
-            let had = self.target.as_ref().map_or((0, 0), |t| t.capacity);
-            let capacity = grown_capacity(needed, had, self.size);
-            let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let out_of_memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-            self.target = Some(TileTarget::new(gpu, capacity));
-            check_scope(out_of_memory, "creating a tile target")?;
-            check_scope(validation, "creating a tile target")?;
-        }
-        let target = self.target.as_ref().expect("a tile target was just made");
+        let target = tile_target(
+            gpu,
+            &mut self.target,
+            |t| t.capacity,
+            TileTarget::new,
+            (rect.width, rect.height),
+            self.size,
+        )?;
         let r = inputs.resources;
         let tile = r.tile.as_ref().expect("checked in BodyTiles::new");
 

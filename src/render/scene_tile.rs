@@ -32,7 +32,7 @@
 //! image.
 
 use super::RenderError;
-use super::body_tile::{grown_capacity, projected_rect, read_patch, tile_transform};
+use super::body_tile::{projected_rect, read_patch, tile_target, tile_transform};
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
@@ -182,18 +182,14 @@ impl SceneTiles {
         let Some(rect) = rect else {
             return Ok(None);
         };
-        let needed = (rect.width, rect.height);
-        let fits = |t: &SceneTileTarget| t.capacity.0 >= needed.0 && t.capacity.1 >= needed.1;
-        if !self.target.as_ref().is_some_and(fits) {
-            let had = self.target.as_ref().map_or((0, 0), |t| t.capacity);
-            let capacity = grown_capacity(needed, had, self.size);
-            let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let out_of_memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-            self.target = Some(SceneTileTarget::new(gpu, capacity));
-            check_scope(out_of_memory, "creating a 3D tile target")?;
-            check_scope(validation, "creating a 3D tile target")?;
-        }
-        let target = self.target.as_ref().expect("a tile target was just made");
+        let target = tile_target(
+            gpu,
+            &mut self.target,
+            |t| t.capacity,
+            SceneTileTarget::new,
+            (rect.width, rect.height),
+            self.size,
+        )?;
         let (width, height) = self.size;
         let mut globals = *globals;
         (globals.tile, globals.tile_origin) = tile_transform(rect, target.capacity, width, height);
