@@ -498,5 +498,15 @@ mod tests {
         let broken = [[f32::NAN, 0.0, 0.0], [0.0, 0.0, 0.0]];
         let rect = body_rect(&identity, &broken, 0.0, 100, 50).unwrap();
         assert_eq!((rect.x, rect.y, rect.width, rect.height), (0, 0, 100, 50));
+        // So does one behind the eye: with clip w = z, a point at z = −1
+        // would project, mirrored, to a finite pixel.
+        let mut w_is_z = identity;
+        w_is_z[(3, 3)] = 0.0;
+        w_is_z[(3, 2)] = 1.0;
+        let in_front = [[0.2, 0.1, 1.0], [0.3, 0.2, 1.0]];
+        assert!(body_rect(&w_is_z, &in_front, 0.0, 100, 50).unwrap().width < 100);
+        let behind = [[0.2, 0.1, 1.0], [0.3, 0.2, -1.0]];
+        let rect = body_rect(&w_is_z, &behind, 0.0, 100, 50).unwrap();
+        assert_eq!((rect.x, rect.y, rect.width, rect.height), (0, 0, 100, 50));
     }
 }
