@@ -35,13 +35,11 @@
 use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
-use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources, padded_row_bytes};
-use super::renderer::{encode_texture_copy, read_buffer};
+use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources};
+use super::tile_slot::TileSlot;
 use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
 
-/// Tile targets grow in steps of this many pixels per side.
-const CAPACITY_STEP: u32 = 64;
 /// Pixels around the body's vertices and edge lines' caps that the tile
 /// also holds: the lines' coverage quads reach one pixel further (and the
 /// fringes under one pixel), so two leave room for rounding.
@@ -101,55 +99,6 @@ pub(super) fn projected_rect(
     (x1 > x0 && y1 > y0).then_some(PixelRect::new(x0, y0, x1 - x0, y1 - y0))
 }
 
-/// The tile target in `slot`, first replaced by a larger one when it
-/// cannot hold `needed` pixels: made by `make` with the capacity grown from
-/// the old one's in steps of `CAPACITY_STEP`, never beyond the image's
-/// `size`.
-pub(super) fn tile_target<'a, T>(
-    gpu: &Gpu,
-    slot: &'a mut Option<T>,
-    capacity_of: impl Fn(&T) -> (u32, u32),
-    make: impl FnOnce(&Gpu, (u32, u32)) -> T,
-    needed: (u32, u32),
-    size: (u32, u32),
-) -> Result<&'a T, RenderError> {
-    let had = slot.as_ref().map_or((0, 0), &capacity_of);
-    if had.0 < needed.0 || had.1 < needed.1 {
-        let grown = |need: u32, had: u32, size: u32| {
-            need.max(had).next_multiple_of(CAPACITY_STEP).min(size)
-        };
-        let capacity = (
-            grown(needed.0, had.0, size.0),
-            grown(needed.1, had.1, size.1),
-        );
-        let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let out_of_memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        *slot = Some(make(gpu, capacity));
-        check_scope(out_of_memory, "creating a tile target")?;
-        check_scope(validation, "creating a tile target")?;
-    }
-    Ok(slot.as_ref().expect("a tile target was just made"))
-}
-
-/// The tile at `rect`, which the tile's submission copied into `readback`
-/// (rows `padded_row_bytes(rect.width)` apart): waits for the copy and
-/// maps it.
-pub(super) fn read_patch(
-    gpu: &Gpu,
-    readback: &wgpu::Buffer,
-    rect: PixelRect,
-) -> Result<Patch, RenderError> {
-    let mut pixels = Vec::with_capacity((rect.width * rect.height * 4) as usize);
-    read_buffer(
-        gpu,
-        readback,
-        padded_row_bytes(rect.width),
-        (rect.width, rect.height),
-        |_, row| pixels.extend_from_slice(row),
-    )?;
-    Ok(Patch { rect, pixels })
-}
-
 /// `tile` and `tile_origin` of the uniforms for drawing `rect` of a
 /// `width × height` image into a target of `capacity` pixels (see the module
 /// documentation).
@@ -171,18 +120,15 @@ pub(super) fn tile_transform(
     (tile.map(|c| c as f32), [x0 as f32, y0 as f32, 0.0, 0.0])
 }
 
-/// The tile target (one sample per pixel) and its readback buffer.
+/// The tile target, one sample per pixel.
 struct TileTarget {
-    capacity: (u32, u32),
     texture: wgpu::Texture,
     view: wgpu::TextureView,
-    readback: wgpu::Buffer,
 }
 
 impl TileTarget {
     fn new(gpu: &Gpu, capacity: (u32, u32)) -> Self {
-        let device = &gpu.device;
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("tile target"),
             size: wgpu::Extent3d {
                 width: capacity.0,
@@ -199,18 +145,7 @@ impl TileTarget {
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("tile readback buffer"),
-            size: u64::from(padded_row_bytes(capacity.0)) * u64::from(capacity.1),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        TileTarget {
-            capacity,
-            texture,
-            view,
-            readback,
-        }
+        TileTarget { texture, view }
     }
 }
 
@@ -229,13 +164,11 @@ pub(super) struct TileInputs<'a> {
 /// The fixed backdrop of a 2D run, on the GPU, and the tile target its
 /// frames are drawn in.
 pub(super) struct BodyTiles {
-    /// The image size.
-    size: (u32, u32),
     /// The backdrop, copied under each tile.
     backdrop: wgpu::Texture,
     /// The backdrop for the fringes' inner halves to read.
     backdrop_bind_group: wgpu::BindGroup,
-    target: Option<TileTarget>,
+    slot: TileSlot<TileTarget>,
 }
 
 impl BodyTiles {
@@ -292,10 +225,9 @@ impl BodyTiles {
         });
         check_scope(validation, "preparing the 2D backdrop")?;
         Ok(BodyTiles {
-            size: backdrop.dimensions(),
             backdrop: texture,
             backdrop_bind_group,
-            target: None,
+            slot: TileSlot::new(backdrop.dimensions()),
         })
     }
 
@@ -310,20 +242,13 @@ impl BodyTiles {
         let Some(rect) = rect else {
             return Ok(None);
         };
-        let (width, height) = self.size;
-        let target = tile_target(
-            gpu,
-            &mut self.target,
-            |t| t.capacity,
-            TileTarget::new,
-            (rect.width, rect.height),
-            self.size,
-        )?;
+        let transform = self.slot.hold(gpu, rect, TileTarget::new)?;
+        let target = self.slot.target();
         let r = inputs.resources;
         let tile = r.tile.as_ref().expect("checked in BodyTiles::new");
 
         let mut globals = *inputs.globals;
-        (globals.tile, globals.tile_origin) = tile_transform(rect, target.capacity, width, height);
+        (globals.tile, globals.tile_origin) = transform;
         gpu.queue
             .write_buffer(&r.uniforms, 0, bytemuck::bytes_of(&globals));
 
@@ -391,13 +316,8 @@ impl BodyTiles {
         }
         // The copy for the readback goes in the same submission: one round
         // trip through the driver per frame instead of two.
-        encode_texture_copy(
-            &mut encoder,
-            &target.texture,
-            &target.readback,
-            padded_row_bytes(rect.width),
-            (rect.width, rect.height),
-        );
+        self.slot
+            .encode_readback(&mut encoder, &target.texture, rect);
         gpu.queue.submit([encoder.finish()]);
         check_scope(validation, "drawing a tile")?;
         wait(device, "drawing a tile")?;
@@ -411,10 +331,7 @@ impl BodyTiles {
         gpu: &Gpu,
         rect: Option<PixelRect>,
     ) -> Result<Option<Patch>, RenderError> {
-        let (Some(rect), Some(target)) = (rect, &self.target) else {
-            return Ok(None);
-        };
-        read_patch(gpu, &target.readback, rect).map(Some)
+        self.slot.read_back(gpu, rect)
     }
 }
 

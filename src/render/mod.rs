@@ -49,6 +49,7 @@ mod renderer;
 mod scene_tile;
 mod sequence;
 mod text;
+mod tile_slot;
 mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};

@@ -32,14 +32,14 @@
 //! image.
 
 use super::RenderError;
-use super::body_tile::{projected_rect, read_patch, tile_target, tile_transform};
+use super::body_tile::projected_rect;
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{
-    COLOR_FORMAT, DEPTH_FORMAT, Globals, depth_attachment, padded_row_bytes,
-    resolved_colour_attachment,
+    COLOR_FORMAT, DEPTH_FORMAT, Globals, depth_attachment, resolved_colour_attachment,
 };
-use super::renderer::{Layers, encode_texture_copy, record_layers};
+use super::renderer::{Layers, record_layers};
+use super::tile_slot::TileSlot;
 use nalgebra::Matrix4;
 
 /// Pixels around the shadow's support that the tile also holds (the
@@ -83,15 +83,12 @@ pub(super) fn scene_rect(body: Option<PixelRect>, shadow: Option<PixelRect>) -> 
     ))
 }
 
-/// A tile's multisampled colour and depth targets, the colour resolved, and
-/// the readback buffer.
+/// A tile's multisampled colour and depth targets, and the colour resolved.
 struct SceneTileTarget {
-    capacity: (u32, u32),
     msaa_view: Option<wgpu::TextureView>,
     resolved: wgpu::Texture,
     resolved_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
-    readback: wgpu::Buffer,
 }
 
 impl SceneTileTarget {
@@ -137,34 +134,26 @@ impl SceneTileTarget {
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         )
         .create_view(&Default::default());
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("3D tile readback buffer"),
-            size: u64::from(padded_row_bytes(capacity.0)) * u64::from(capacity.1),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
         SceneTileTarget {
-            capacity,
             msaa_view,
             resolved,
             resolved_view,
             depth_view,
-            readback,
         }
     }
 }
 
 /// The tile target a 3D run's frames are drawn in, grown as needed.
 pub(super) struct SceneTiles {
-    /// The image size.
-    size: (u32, u32),
-    target: Option<SceneTileTarget>,
+    slot: TileSlot<SceneTileTarget>,
 }
 
 impl SceneTiles {
     /// Tiles for frames of `size` pixels.
     pub fn new(size: (u32, u32)) -> Self {
-        SceneTiles { size, target: None }
+        SceneTiles {
+            slot: TileSlot::new(size),
+        }
     }
 
     /// Draws `layers` at `rect` with `globals` (the frame's, for the whole
@@ -182,17 +171,10 @@ impl SceneTiles {
         let Some(rect) = rect else {
             return Ok(None);
         };
-        let target = tile_target(
-            gpu,
-            &mut self.target,
-            |t| t.capacity,
-            SceneTileTarget::new,
-            (rect.width, rect.height),
-            self.size,
-        )?;
-        let (width, height) = self.size;
+        let transform = self.slot.hold(gpu, rect, SceneTileTarget::new)?;
+        let target = self.slot.target();
         let mut globals = *globals;
-        (globals.tile, globals.tile_origin) = tile_transform(rect, target.capacity, width, height);
+        (globals.tile, globals.tile_origin) = transform;
         let r = layers.resources;
         gpu.queue
             .write_buffer(&r.uniforms, 0, bytemuck::bytes_of(&globals));
@@ -221,13 +203,8 @@ impl SceneTiles {
             record_layers(&mut pass, layers);
         }
         // The copy for the readback goes in the same submission.
-        encode_texture_copy(
-            &mut encoder,
-            &target.resolved,
-            &target.readback,
-            padded_row_bytes(rect.width),
-            (rect.width, rect.height),
-        );
+        self.slot
+            .encode_readback(&mut encoder, &target.resolved, rect);
         gpu.queue.submit([encoder.finish()]);
         check_scope(out_of_memory, "drawing a 3D tile")?;
         check_scope(validation, "drawing a 3D tile")?;
@@ -242,10 +219,7 @@ impl SceneTiles {
         gpu: &Gpu,
         rect: Option<PixelRect>,
     ) -> Result<Option<Patch>, RenderError> {
-        let (Some(rect), Some(target)) = (rect, &self.target) else {
-            return Ok(None);
-        };
-        read_patch(gpu, &target.readback, rect).map(Some)
+        self.slot.read_back(gpu, rect)
     }
 }
 
