@@ -1,14 +1,15 @@
-//! [`GpuResources`]: the pipelines, buffers and render targets of one
+//! [`GpuResources`]: the pipelines and buffers of one
 //! [`Renderer`](super::Renderer), and the data layouts they consume.
 //!
-//! Everything here is created once per run, sized for the mesh and the image:
-//! one uniform buffer of [`Globals`] shared by every shader, a pipeline per
-//! layer (background, ground, surface, lines), vertex buffers for the
-//! surface's triangle corners and the instanced line segments, a 4x MSAA
-//! colour target resolved to `Rgba8UnormSrgb`, a depth target in 3D, and a
-//! readback buffer with rows padded to `COPY_BYTES_PER_ROW_ALIGNMENT`. In
+//! Everything here is created once per run, sized for the mesh: one uniform
+//! buffer of [`Globals`] shared by every shader, a pipeline per layer
+//! (background, ground, surface, lines) drawing into 4x MSAA
+//! `Rgba8UnormSrgb` targets (with a depth target in 3D), and vertex buffers
+//! for the surface's triangle corners and the instanced line segments. In
 //! 2D also the single-sampled pipelines and buffers of the body tiles
-//! ([`TileResources`]: surface, fringes, edge lines).
+//! ([`TileResources`]: surface, fringes, edge lines). The targets
+//! themselves are sized for a tile or the whole image and made where they
+//! are drawn into (`render_targets`).
 //!
 //! 2D has no depth target: everything lies in the plane z = 0 under an
 //! orthographic camera and edges are not pulled towards the eye, so every
@@ -102,14 +103,8 @@ pub(super) struct GpuResources {
     pub tile: Option<TileResources>,
     pub surface_vertices: wgpu::Buffer,
     pub line_instances: wgpu::Buffer,
-    /// Multisampled colour target (`None` without MSAA).
-    pub msaa_view: Option<wgpu::TextureView>,
-    pub resolved: wgpu::Texture,
-    pub resolved_view: wgpu::TextureView,
-    /// Depth target (3D only).
-    pub depth_view: Option<wgpu::TextureView>,
-    pub readback: wgpu::Buffer,
-    pub padded_bytes_per_row: u32,
+    /// 3D: the pipelines test and write depth (see [`DepthTest`]).
+    pub depth: bool,
 }
 
 /// 2D: the single-sampled pipelines and buffers of the body tiles
@@ -134,8 +129,8 @@ pub(super) struct TileResources {
 }
 
 impl GpuResources {
-    /// Creates pipelines, buffers and targets for `mesh` at the settings'
-    /// image size, with a ground pipeline when the settings have a ground.
+    /// Creates pipelines and buffers for `mesh`, with a ground pipeline when
+    /// the settings have a ground.
     pub fn new(
         gpu: &Gpu,
         settings: &RenderSettings,
@@ -144,7 +139,6 @@ impl GpuResources {
         let device = &gpu.device;
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let (width, height) = (settings.width, settings.height);
         let samples = gpu.sample_count;
 
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
@@ -343,68 +337,8 @@ impl GpuResources {
             }
         });
 
-        let size = wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        };
-        let texture = |label: &'static str, format, sample_count, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let msaa_view = (samples > 1).then(|| {
-            texture(
-                "multisampled colour target",
-                COLOR_FORMAT,
-                samples,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&wgpu::TextureViewDescriptor {
-                label: Some("multisampled colour view"),
-                ..Default::default()
-            })
-        });
-        let resolved = texture(
-            "resolved colour target",
-            COLOR_FORMAT,
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        );
-        let resolved_view = resolved.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("resolved colour view"),
-            ..Default::default()
-        });
-        let depth_view = depth.then(|| {
-            texture(
-                "depth target",
-                DEPTH_FORMAT,
-                samples,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&wgpu::TextureViewDescriptor {
-                label: Some("depth view"),
-                ..Default::default()
-            })
-        });
-
-        let padded_bytes_per_row = padded_row_bytes(width);
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback buffer"),
-            size: padded_bytes_per_row as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-
-        check_scope(out_of_memory, "creating render targets")?;
-        check_scope(validation, "creating pipelines and targets")?;
+        check_scope(out_of_memory, "creating pipelines and buffers")?;
+        check_scope(validation, "creating pipelines and buffers")?;
         Ok(GpuResources {
             bind_group,
             uniforms,
@@ -415,12 +349,7 @@ impl GpuResources {
             tile,
             surface_vertices,
             line_instances,
-            msaa_view,
-            resolved,
-            resolved_view,
-            depth_view,
-            readback,
-            padded_bytes_per_row,
+            depth,
         })
     }
 }
@@ -429,43 +358,6 @@ impl GpuResources {
 /// rows start at multiples of `COPY_BYTES_PER_ROW_ALIGNMENT`.
 pub(super) fn padded_row_bytes(width: u32) -> u32 {
     (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-}
-
-/// The colour attachment of a pass cleared to `clear`: into `msaa` resolved
-/// into `resolved`, or without MSAA straight into `resolved`. Only the
-/// resolved image is read, so the samples are not stored.
-pub(super) fn resolved_colour_attachment<'a>(
-    msaa: Option<&'a wgpu::TextureView>,
-    resolved: &'a wgpu::TextureView,
-    clear: wgpu::Color,
-) -> wgpu::RenderPassColorAttachment<'a> {
-    let (view, resolve_target, store) = match msaa {
-        Some(msaa) => (msaa, Some(resolved), wgpu::StoreOp::Discard),
-        None => (resolved, None, wgpu::StoreOp::Store),
-    };
-    wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(clear),
-            store,
-        },
-    }
-}
-
-/// The depth attachment of a 3D pass: cleared to the far plane, not stored.
-pub(super) fn depth_attachment(
-    view: &wgpu::TextureView,
-) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-    wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(wgpu::Operations {
-            load: wgpu::LoadOp::Clear(1.0),
-            store: wgpu::StoreOp::Discard,
-        }),
-        stencil_ops: None,
-    }
 }
 
 /// How a pipeline meets the depth target. Only 3D has one; in 2D every

@@ -45,6 +45,7 @@ mod look;
 mod mesh_view;
 mod mp4_writer;
 mod partial_file;
+mod render_targets;
 mod renderer;
 mod scene_tile;
 mod sequence;

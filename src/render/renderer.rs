@@ -39,10 +39,9 @@ use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_image::{FrameBase, FrameImage, Patch, PixelRect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{
-    GpuResources, LineInstance, SurfaceVertex, depth_attachment, resolved_colour_attachment,
-};
+use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex};
 use super::look::Look;
+use super::render_targets::WholeImageTargets;
 use super::scene_tile::{SceneTiles, scene_rect, shadow_rect};
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
@@ -75,6 +74,9 @@ pub struct Renderer {
     /// What every frame shares, and the tiles each frame is drawn in (made
     /// with the renderer, by `PreparedRenderer::complete`).
     backdrop: Option<Backdrop>,
+    /// The whole image's targets, while something is drawn whole: the
+    /// backdrop, or a reference image (see `render_targets`).
+    whole_image: Option<WholeImageTargets>,
 }
 
 /// A 2D frame's body as its tile draws it (see `body_coverage`).
@@ -196,6 +198,7 @@ impl PreparedRenderer {
             line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
             colour_scratch: Vec::with_capacity(mesh.element_count),
             backdrop: None,
+            whole_image: None,
             settings,
             mesh,
         };
@@ -214,6 +217,9 @@ impl PreparedRenderer {
             let image = renderer.draw_scene_backdrop()?;
             (image, FrameTiles::Scene(SceneTiles::new(renderer.size())))
         };
+        // Frames are drawn in tiles: the whole image's targets are not
+        // needed again unless a reference image is asked for.
+        renderer.whole_image = None;
         let mut base = image.clone();
         renderer.look.draw_overlay(&mut base);
         renderer.backdrop = Some(Backdrop {
@@ -264,6 +270,15 @@ impl Renderer {
             mesh: mesh.clone(),
             resources,
         })
+    }
+
+    /// Whether the whole image's render targets are held. A renderer makes
+    /// them for its backdrop and drops them once that is read back; only
+    /// the reference paths ([`Renderer::render_multisampled`]) make them
+    /// again. For tests.
+    #[doc(hidden)]
+    pub fn holds_whole_image_targets(&self) -> bool {
+        self.whole_image.is_some()
     }
 
     /// The adapter this renderer draws with (name, backend, driver, type).
@@ -320,6 +335,7 @@ impl Renderer {
         self.upload_lines();
         self.fill_surface(frame);
         self.upload_surface();
+        self.hold_whole_image(self.gpu.sample_count)?;
         self.draw_whole_image(&self.layers(self.surface_scratch.len()))?;
         let mut image = self.read_whole_image()?;
         self.look.draw_overlay(&mut image);
@@ -411,6 +427,7 @@ impl Renderer {
         self.gpu
             .queue
             .write_buffer(&self.resources.uniforms, 0, bytemuck::bytes_of(&globals));
+        self.hold_whole_image(self.gpu.sample_count)?;
         self.draw_whole_image(&Layers {
             resources: &self.resources,
             background: self.look.has_gradient(),
@@ -427,6 +444,8 @@ impl Renderer {
     fn draw_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
         self.look.lines(&[], &[], &mut self.line_scratch);
         self.upload_lines();
+        self.hold_whole_image(1)?;
+        let targets = &self.whole_image.as_ref().expect("just made").targets;
         let device = &self.gpu.device;
         let r = &self.resources;
         let tile = r.tile.as_ref().expect("a 2D renderer has tiles");
@@ -437,11 +456,7 @@ impl Renderer {
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("backdrop pass"),
-                color_attachments: &[Some(resolved_colour_attachment(
-                    None,
-                    &r.resolved_view,
-                    self.look.clear_colour(),
-                ))],
+                color_attachments: &[Some(targets.colour_attachment(self.look.clear_colour()))],
                 depth_stencil_attachment: None,
                 timestamp_writes: None,
                 occlusion_query_set: None,
@@ -470,10 +485,30 @@ impl Renderer {
         self.read_whole_image()
     }
 
+    /// Makes the whole image's targets with `samples` samples per pixel,
+    /// unless they are made already.
+    fn hold_whole_image(&mut self, samples: u32) -> Result<(), RenderError> {
+        if self.whole_image.as_ref().map(WholeImageTargets::samples) != Some(samples) {
+            // The old targets go first: both need not fit at once.
+            self.whole_image = None;
+            self.whole_image = Some(WholeImageTargets::new(
+                &self.gpu,
+                self.size(),
+                samples,
+                self.mesh.dimension == 3,
+            )?);
+        }
+        Ok(())
+    }
+
     /// Draws `layers` over the whole image with 4x MSAA and waits for it.
     fn draw_whole_image(&self, layers: &Layers<'_>) -> Result<(), RenderError> {
+        let targets = &self
+            .whole_image
+            .as_ref()
+            .expect("held by the caller")
+            .targets;
         let device = &self.gpu.device;
-        let r = &self.resources;
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -482,12 +517,8 @@ impl Renderer {
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("frame pass"),
-                color_attachments: &[Some(resolved_colour_attachment(
-                    r.msaa_view.as_ref(),
-                    &r.resolved_view,
-                    self.look.clear_colour(),
-                ))],
-                depth_stencil_attachment: r.depth_view.as_ref().map(depth_attachment),
+                color_attachments: &[Some(targets.colour_attachment(self.look.clear_colour()))],
+                depth_stencil_attachment: targets.depth_attachment(),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,
@@ -514,19 +545,10 @@ impl Renderer {
 
     /// Reads the whole image just drawn back from the GPU.
     fn read_whole_image(&self) -> Result<RgbaImage, RenderError> {
-        let (width, height) = (self.settings.width, self.settings.height);
-        let r = &self.resources;
-        let mut pixels = Vec::with_capacity((width * height * 4) as usize);
-        read_texture(
-            &self.gpu,
-            &r.resolved,
-            &r.readback,
-            r.padded_bytes_per_row,
-            (width, height),
-            |_, row| pixels.extend_from_slice(row),
-        )?;
-        Ok(RgbaImage::from_raw(width, height, pixels)
-            .expect("the readback holds width x height pixels"))
+        self.whole_image
+            .as_ref()
+            .expect("drawn by the caller")
+            .read(&self.gpu)
     }
 
     /// Builds this frame's colours, body, edges and uniforms and uploads
@@ -662,7 +684,7 @@ pub(super) fn record_layers(pass: &mut wgpu::RenderPass<'_>, layers: &Layers<'_>
         }
     };
     let background = layers.background.then_some(&r.background);
-    if r.depth_view.is_some() {
+    if r.depth {
         draw_surface(pass);
         if let Some(ground) = &r.ground {
             draw_layer(pass, ground, 6);

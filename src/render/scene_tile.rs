@@ -35,9 +35,8 @@ use super::RenderError;
 use super::body_tile::projected_rect;
 use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
-use super::gpu_resources::{
-    COLOR_FORMAT, DEPTH_FORMAT, Globals, depth_attachment, resolved_colour_attachment,
-};
+use super::gpu_resources::Globals;
+use super::render_targets::RenderTargets;
 use super::renderer::{Layers, record_layers};
 use super::tile_slot::TileSlot;
 use nalgebra::Matrix4;
@@ -83,69 +82,9 @@ pub(super) fn scene_rect(body: Option<PixelRect>, shadow: Option<PixelRect>) -> 
     ))
 }
 
-/// A tile's multisampled colour and depth targets, and the colour resolved.
-struct SceneTileTarget {
-    msaa_view: Option<wgpu::TextureView>,
-    resolved: wgpu::Texture,
-    resolved_view: wgpu::TextureView,
-    depth_view: wgpu::TextureView,
-}
-
-impl SceneTileTarget {
-    fn new(gpu: &Gpu, capacity: (u32, u32)) -> Self {
-        let device = &gpu.device;
-        let texture = |label: &'static str, format, sample_count, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width: capacity.0,
-                    height: capacity.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let samples = gpu.sample_count;
-        let msaa_view = (samples > 1).then(|| {
-            texture(
-                "3D tile multisampled target",
-                COLOR_FORMAT,
-                samples,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&Default::default())
-        });
-        let resolved = texture(
-            "3D tile target",
-            COLOR_FORMAT,
-            1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        );
-        let resolved_view = resolved.create_view(&Default::default());
-        let depth_view = texture(
-            "3D tile depth target",
-            DEPTH_FORMAT,
-            samples,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
-        )
-        .create_view(&Default::default());
-        SceneTileTarget {
-            msaa_view,
-            resolved,
-            resolved_view,
-            depth_view,
-        }
-    }
-}
-
 /// The tile target a 3D run's frames are drawn in, grown as needed.
 pub(super) struct SceneTiles {
-    slot: TileSlot<SceneTileTarget>,
+    slot: TileSlot<RenderTargets>,
 }
 
 impl SceneTiles {
@@ -171,7 +110,9 @@ impl SceneTiles {
         let Some(rect) = rect else {
             return Ok(None);
         };
-        let transform = self.slot.hold(gpu, rect, SceneTileTarget::new)?;
+        let transform = self.slot.hold(gpu, rect, |gpu, capacity| {
+            RenderTargets::new(gpu, capacity, gpu.sample_count, true, "3D tile")
+        })?;
         let target = self.slot.target();
         let mut globals = *globals;
         (globals.tile, globals.tile_origin) = transform;
@@ -188,12 +129,8 @@ impl SceneTiles {
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("3D tile pass"),
-                color_attachments: &[Some(resolved_colour_attachment(
-                    target.msaa_view.as_ref(),
-                    &target.resolved_view,
-                    clear,
-                ))],
-                depth_stencil_attachment: Some(depth_attachment(&target.depth_view)),
+                color_attachments: &[Some(target.colour_attachment(clear))],
+                depth_stencil_attachment: target.depth_attachment(),
                 timestamp_writes: None,
                 occlusion_query_set: None,
                 multiview_mask: None,

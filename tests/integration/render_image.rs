@@ -198,6 +198,51 @@ fn the_same_frame_renders_to_the_same_bytes() {
 }
 
 #[test]
+fn the_whole_image_targets_live_only_while_something_is_drawn_whole() {
+    use elasto::math::Vector3;
+    use elasto::mesh::Mesh;
+    let (square_mesh, square_frame) = square(-1.0, -1.0, 2.0);
+    let box_mesh = Mesh::<3>::axis_aligned_box(
+        Vector3::new(-0.5, 0.0, -0.5),
+        Vector3::new(0.5, 1.0, 0.5),
+        [1, 1, 1],
+    )
+    .unwrap();
+    let box_frame = RenderFrame::from_positions(
+        box_mesh.rest_positions(),
+        &vec![0.0; box_mesh.element_count()],
+    );
+    let settings = RenderSettings {
+        ground_height: Some(0.0),
+        ..plain_settings(160, 120)
+    };
+    for (mesh, frame) in [
+        (square_mesh, square_frame),
+        (RenderMesh::from_mesh(&box_mesh), box_frame),
+    ] {
+        let Some(mut renderer) = renderer_or_skip(&settings, &mesh, std::slice::from_ref(&frame))
+        else {
+            return;
+        };
+        // The backdrop is drawn whole; the frames are tiles.
+        assert!(!renderer.holds_whole_image_targets(), "{}D", mesh.dimension);
+        let tile = renderer.render(&frame).unwrap();
+        assert!(!renderer.holds_whole_image_targets(), "{}D", mesh.dimension);
+        // A reference image makes them again, and draws what the tile does.
+        let whole = renderer.render_multisampled(&frame).unwrap();
+        assert!(renderer.holds_whole_image_targets(), "{}D", mesh.dimension);
+        assert_eq!(tile.dimensions(), whole.dimensions());
+        let centre = |image: &image::RgbaImage| image.get_pixel(80, 60).0;
+        assert_eq!(centre(&tile), centre(&whole), "{}D", mesh.dimension);
+        assert!(
+            renderer.render(&frame).unwrap() == tile,
+            "{}D",
+            mesh.dimension
+        );
+    }
+}
+
+#[test]
 fn three_d_box_is_framed_lit_and_standing_on_the_ground() {
     use elasto::math::Vector3;
     use elasto::mesh::Mesh;
