@@ -10,12 +10,13 @@
 //! stored either.
 //!
 //! The tiles of a 3D run are drawn into `RenderTargets` of their own
-//! (`scene_tile`). The whole image's targets serve only the backdrop, drawn
-//! once per run, and the reference paths that draw a frame whole (see
-//! `Renderer`): the renderer makes them when one of those needs them and
-//! drops them once the backdrop is read back. At 1280x720 with 4x MSAA they
-//! are about 37 MB in 3D (colour and depth samples, the resolved image, its
-//! readback buffer), which a run no longer holds while it draws its frames.
+//! (`scene_tile`), and so is its backdrop, in strips. The whole image's
+//! targets serve only the 2D backdrop (single-sampled, drawn once per run)
+//! and the reference paths that draw a frame whole (see `Renderer`): the
+//! renderer makes them when one of those needs them and drops them once
+//! the image is read back. At 1280x720 with 4x MSAA and depth they would
+//! be about 37 MB (colour and depth samples, the resolved image, its
+//! readback buffer).
 
 use super::RenderError;
 use super::gpu::{Gpu, check_scope};

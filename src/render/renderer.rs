@@ -10,9 +10,9 @@
 //! buffers, draw the tile around what changed, read it back, stamp the
 //! legend where the tile meets it (drawn once on the CPU).
 //!
-//! - **3D** ([`SceneTiles`]): the backdrop is one pass over the whole image
-//!   into a 4x MSAA target with a depth target, resolved to
-//!   `Rgba8UnormSrgb`, without the body and its contact shadow. Each frame
+//! - **3D** ([`SceneTiles`]): the backdrop is the whole image without the
+//!   body and its contact shadow, drawn in strips of 64 rows into a 4x MSAA
+//!   target with a depth target, resolved to `Rgba8UnormSrgb`. Each frame
 //!   draws the same layers in the tile around the body and its shadow: the
 //!   opaque layers nearest first (surface, ground, background, then edges),
 //!   so that hidden samples are rejected before they are shaded, with depth
@@ -48,6 +48,10 @@ use image::RgbaImage;
 use nalgebra::{Matrix4, Vector3};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// Rows per strip of the 3D backdrop. Even, so that every strip starts on
+/// an even row, as the whole image's 2x2 pixel quads do (see `scene_tile`).
+const BACKDROP_STRIP_ROWS: u32 = 64;
 
 /// How long the stages of one [`Renderer::render_timed`] call took.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -217,8 +221,8 @@ impl PreparedRenderer {
             let image = renderer.draw_scene_backdrop()?;
             (image, FrameTiles::Scene(SceneTiles::new(renderer.size())))
         };
-        // Frames are drawn in tiles: the whole image's targets are not
-        // needed again unless a reference image is asked for.
+        // Frames are drawn in tiles: the 2D backdrop's whole-image targets
+        // are not needed again unless a reference image is asked for.
         renderer.whole_image = None;
         let mut base = image.clone();
         renderer.look.draw_overlay(&mut base);
@@ -272,10 +276,10 @@ impl Renderer {
         })
     }
 
-    /// Whether the whole image's render targets are held. A renderer makes
-    /// them for its backdrop and drops them once that is read back; only
-    /// the reference paths ([`Renderer::render_multisampled`]) make them
-    /// again. For tests.
+    /// Whether the whole image's render targets are held. A 2D renderer
+    /// makes them for its backdrop and drops them once that is read back, a
+    /// 3D one draws its backdrop in strips; only the reference path
+    /// ([`Renderer::render_multisampled`]) makes them again. For tests.
     #[doc(hidden)]
     pub fn holds_whole_image_targets(&self) -> bool {
         self.whole_image.is_some()
@@ -420,22 +424,33 @@ impl Renderer {
     }
 
     /// The 3D backdrop: the whole image without the body and its shadow (no
-    /// legend), multisampled.
+    /// legend), multisampled. It is drawn in strips of
+    /// [`BACKDROP_STRIP_ROWS`] rows, each a tile (`scene_tile`) in a target
+    /// of its own that is dropped afterwards: the whole image's
+    /// multisampled colour and depth targets would be about 30 MB at
+    /// 1280x720, and 270 MB at 3840x2160.
     fn draw_scene_backdrop(&mut self) -> Result<RgbaImage, RenderError> {
         let mut globals = *self.look.globals();
         globals.shadow_params[0] = 0.0;
-        self.gpu
-            .queue
-            .write_buffer(&self.resources.uniforms, 0, bytemuck::bytes_of(&globals));
-        self.hold_whole_image(self.gpu.sample_count)?;
-        self.draw_whole_image(&Layers {
+        let layers = Layers {
             resources: &self.resources,
             background: self.look.has_gradient(),
             surface_vertices: 0,
             ground_lines: 0,
             lines: 0,
-        })?;
-        self.read_whole_image()
+        };
+        let (width, height) = self.size();
+        let mut strips = SceneTiles::new((width, height));
+        let mut image = RgbaImage::from_pixel(width, height, image::Rgba([0, 0, 0, 255]));
+        for y in (0..height).step_by(BACKDROP_STRIP_ROWS as usize) {
+            let strip = PixelRect::new(0, y, width, BACKDROP_STRIP_ROWS.min(height - y));
+            let clear = self.look.clear_colour();
+            let drawn = strips.draw(&self.gpu, &layers, &globals, clear, Some(strip))?;
+            if let Some(patch) = strips.read_back(&self.gpu, drawn)? {
+                patch.paste_into(&mut image);
+            }
+        }
+        Ok(image)
     }
 
     /// The 2D backdrop: the whole image without the body (no legend),
