@@ -88,6 +88,12 @@ impl FrameBase {
         })
     }
 
+    /// The base image.
+    #[cfg(test)]
+    pub fn image(&self) -> &RgbaImage {
+        &self.image
+    }
+
     /// The base's rows filtered and compressed for PNG, made on first use.
     pub fn png_rows(&self) -> &Result<CompressedRows, String> {
         self.png_rows
@@ -223,6 +229,22 @@ impl FrameImage {
         match &self.form {
             Form::Whole(_) => None,
             Form::Patched { base, patch } => Some((base, patch.as_ref().map(|p| p.rect))),
+        }
+    }
+
+    /// Appends the RGBA pixels of the whole row `y` to `rgba`.
+    pub(crate) fn push_rgba_row(&self, y: u32, rgba: &mut Vec<u8>) {
+        match &self.form {
+            Form::Whole(image) => rgba.extend_from_slice(&image.as_raw()[row_bytes(image, y)]),
+            Form::Patched { base, patch } => {
+                let start = rgba.len();
+                rgba.extend_from_slice(&base.image.as_raw()[row_bytes(&base.image, y)]);
+                if let Some(patch) = patch.as_ref().filter(|p| p.rect.rows().contains(&y)) {
+                    let x = start + patch.rect.x as usize * 4;
+                    let source = patch.row(y);
+                    rgba[x..x + source.len()].copy_from_slice(source);
+                }
+            }
         }
     }
 

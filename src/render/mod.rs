@@ -35,6 +35,7 @@ mod export;
 mod frame_image;
 mod frame_png;
 mod frame_shape;
+mod frame_yuv;
 mod gpu;
 mod gpu_resources;
 mod image_file;

@@ -1,9 +1,12 @@
-//! [`Mp4Writer`]: H.264 MP4 through an `ffmpeg` child process fed raw RGBA
-//! frames on its stdin, which never waits on ffmpeg forever.
+//! [`Mp4Writer`]: H.264 MP4 through an `ffmpeg` child process fed raw
+//! YUV 4:2:0 frames on its stdin, which never waits on ffmpeg forever.
 //!
-//! ffmpeg encodes with libx264, yuv420p with BT.709 colours, dimensions
-//! padded to even numbers with the background colour ([`ffmpeg_arguments`]),
-//! into the video's hidden temporary file. It runs in a process group of its
+//! The frames are converted to yuv420p with BT.709 colours in limited range,
+//! dimensions padded to even numbers with the background colour, here
+//! (`frame_yuv`: only the rows a frame changes are converted, and the pipe
+//! carries 1.5 bytes per pixel instead of 4). ffmpeg encodes them with
+//! libx264 as they come ([`ffmpeg_arguments`]), tagged BT.709 and limited
+//! range, into the video's hidden temporary file. It runs in a process group of its
 //! own, registered with the run's partial files, so an interrupt kills it
 //! before removing that file (see `partial_file.rs`).
 //!
@@ -20,6 +23,7 @@
 
 use super::RenderError;
 use super::frame_image::FrameImage;
+use super::frame_yuv::{Yuv420Frames, padded_size};
 use super::partial_file::{PartialFile, SpawnError, kill_and_reap, spawn_process, try_reap};
 use super::video::{VideoSpec, VideoWriter};
 use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, bounded};
@@ -152,14 +156,13 @@ impl FrameFeeder {
     /// Starts the thread. It ends when the queue closes (then ffmpeg sees the
     /// end of its input) or a write fails; it is never joined, so a write
     /// that blocks forever cannot block anything else.
-    fn spawn(mut stdin: ChildStdin) -> Self {
+    fn spawn(mut stdin: ChildStdin, mut planes: Yuv420Frames) -> Self {
         let (frames, queue) = bounded::<Arc<FrameImage>>(1);
         let (answer, written) = bounded(1);
         std::thread::spawn(move || {
-            let mut scratch = Vec::new();
             for frame in queue {
                 let mut result = Ok(());
-                frame.for_each_rgba_span(&mut scratch, |span| {
+                planes.for_each_span(&frame, |span| {
                     if result.is_ok() {
                         result = stdin.write_all(span);
                     }
@@ -174,9 +177,9 @@ impl FrameFeeder {
     }
 }
 
-/// The ffmpeg arguments for `spec`, writing MP4 to `output`.
+/// The ffmpeg arguments for `spec`, reading yuv420p frames of the size
+/// padded to even numbers and writing MP4 to `output`.
 pub(crate) fn ffmpeg_arguments(spec: &VideoSpec<'_>, output: &Path) -> Vec<String> {
-    let [r, g, b] = spec.background;
     let mut args: Vec<String> = [
         "-hide_banner",
         "-loglevel",
@@ -186,12 +189,13 @@ pub(crate) fn ffmpeg_arguments(spec: &VideoSpec<'_>, output: &Path) -> Vec<Strin
         "-f",
         "rawvideo",
         "-pix_fmt",
-        "rgba",
+        "yuv420p",
         "-s",
     ]
     .map(String::from)
     .into();
-    args.push(format!("{}x{}", spec.width, spec.height));
+    let (width, height) = padded_size((spec.width, spec.height));
+    args.push(format!("{width}x{height}"));
     args.push("-r".into());
     args.push(format!("{}", spec.fps));
     args.extend(
@@ -200,12 +204,10 @@ pub(crate) fn ffmpeg_arguments(spec: &VideoSpec<'_>, output: &Path) -> Vec<Strin
         ]
         .map(String::from),
     );
-    args.push("-vf".into());
-    args.push(format!(
-        "pad=ceil(iw/2)*2:ceil(ih/2)*2:0:0:color=0x{r:02x}{g:02x}{b:02x},scale=out_color_matrix=bt709:out_range=tv"
-    ));
     args.extend(
         [
+            "-color_range",
+            "tv",
             "-colorspace",
             "bt709",
             "-color_primaries",
@@ -243,7 +245,11 @@ impl Mp4Writer {
                 message: format!("cannot start ffmpeg: {e}"),
             },
         })?;
-        let input = child.stdin.take().map(FrameFeeder::spawn);
+        let planes = Yuv420Frames::new((spec.width, spec.height), spec.background);
+        let input = child
+            .stdin
+            .take()
+            .map(|stdin| FrameFeeder::spawn(stdin, planes));
         // Drain stderr on a thread so that a chatty ffmpeg never blocks on it.
         let stderr = read_on_thread(child.stderr.take());
         Ok(Self {
@@ -405,7 +411,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ffmpeg_pads_to_even_sizes_in_the_background_colour() {
+    fn ffmpeg_reads_yuv420p_of_the_size_padded_to_even_numbers() {
         let spec = VideoSpec {
             path: Path::new("v.mp4"),
             width: 101,
@@ -416,9 +422,12 @@ mod tests {
         };
         let args = ffmpeg_arguments(&spec, Path::new(".v.mp4.partial"));
         let joined = args.join(" ");
-        assert!(joined.contains("-s 101x61 -r 25 -i -"), "{joined}");
         assert!(
-            joined.contains("pad=ceil(iw/2)*2:ceil(ih/2)*2:0:0:color=0xf5f5fa"),
+            joined.contains("-f rawvideo -pix_fmt yuv420p -s 102x62 -r 25 -i -"),
+            "{joined}"
+        );
+        assert!(
+            joined.contains("-color_range tv -colorspace bt709"),
             "{joined}"
         );
         assert!(

@@ -240,6 +240,81 @@ fn mp4_is_written_with_even_dimensions_when_ffmpeg_exists() {
             "missing {line} in:\n{report}"
         );
     }
+    assert_mp4_shows_the_frames(&path, &dir.path().join("frames"), (65, 49), 6);
+}
+
+/// Decodes the MP4 at `path` as a player does (its BT.709, limited-range
+/// tags read by ffmpeg) and compares each frame with its PNG file. H.264
+/// at CRF 18 and 4:2:0 chroma blur edges (a red pixel next to grey ones
+/// loses some red), but keep flat regions' colours; a wrong colour matrix or
+/// range shifts those (checked: BT.601 for BT.709 moves the body's red and
+/// green by 11 levels, full range for limited puts the mean error at 9
+/// levels). Rounding moves them by a level or two: the conversion rounds
+/// each code value (the body's red, sRGB (231, 89, 63), is Y, Cb, Cr = 117,
+/// 102, 191 for 116.75, 102.29, 191.42), and so does the decoder (measured
+/// here: the flat red 2.3 to 2.8 levels low in red, 0.9 to 1.4 with
+/// ffmpeg's own conversion before). A pixel is in a flat region when every
+/// pixel within two of it has its colour, within two levels.
+fn assert_mp4_shows_the_frames(path: &Path, frames: &Path, size: (u32, u32), count: usize) {
+    let decoded = std::process::Command::new("ffmpeg")
+        .args(["-v", "error", "-i"])
+        .arg(path)
+        .args(["-f", "rawvideo", "-pix_fmt", "rgb24", "-"])
+        .output()
+        .expect("ffmpeg decodes");
+    assert!(decoded.status.success(), "{decoded:?}");
+    let padded = (size.0.next_multiple_of(2), size.1.next_multiple_of(2));
+    let frame_bytes = (padded.0 * padded.1 * 3) as usize;
+    assert_eq!(decoded.stdout.len(), frame_bytes * count);
+    for (index, pixels) in decoded.stdout.chunks_exact(frame_bytes).enumerate() {
+        let png = image::open(frames.join(format!("frame_{index:04}.png")))
+            .unwrap()
+            .to_rgb8();
+        // Per region (body, background): the sum of signed errors per
+        // channel, and the pixel count.
+        let mut regions = [([0i64; 3], 0i64); 2];
+        let mut absolute = 0u64;
+        let flat = |x: u32, y: u32| {
+            let centre = png.get_pixel(x, y).0;
+            let near = |a: u32, d: i32, end: u32| a.checked_add_signed(d).filter(|&a| a < end);
+            (-2..=2).all(|dy| {
+                (-2..=2).all(|dx| match (near(x, dx, size.0), near(y, dy, size.1)) {
+                    (Some(nx), Some(ny)) => {
+                        let other = png.get_pixel(nx, ny).0;
+                        (0..3).all(|c| other[c].abs_diff(centre[c]) <= 2)
+                    }
+                    _ => true,
+                })
+            })
+        };
+        for (x, y, expected) in png.enumerate_pixels() {
+            let at = ((y * padded.0 + x) * 3) as usize;
+            let red = expected.0[0] > expected.0[1].saturating_add(60);
+            let (sums, pixel_count) = &mut regions[usize::from(!red)];
+            let is_flat = flat(x, y);
+            for (c, sum) in sums.iter_mut().enumerate() {
+                let error = i64::from(pixels[at + c]) - i64::from(expected.0[c]);
+                if is_flat {
+                    *sum += error;
+                }
+                absolute += error.unsigned_abs();
+            }
+            *pixel_count += i64::from(is_flat);
+        }
+        let mean = absolute as f64 / (3 * size.0 * size.1) as f64;
+        assert!(mean < 4.0, "frame {index}: mean error {mean:.2} levels");
+        for ((sums, pixel_count), region) in regions.iter().zip(["body", "background"]) {
+            assert!(
+                *pixel_count > 50,
+                "frame {index}: {pixel_count} flat {region} pixels"
+            );
+            let shift = sums.map(|sum| sum as f64 / *pixel_count as f64);
+            assert!(
+                shift.iter().all(|s| s.abs() < 4.0),
+                "frame {index}: the {region}'s colour is off by {shift:?} levels"
+            );
+        }
+    }
 }
 
 #[test]
