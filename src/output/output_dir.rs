@@ -85,7 +85,7 @@ impl OutputDir {
     /// [`OutputDir::check`] has made sure that none of these is a link.
     ///
     /// The earlier frames are hidden as spares rather than removed, for this
-    /// run's frames to reuse their inodes ([`keep_as_spare`]); the returned
+    /// run's frames to reuse their inodes (`render::keep_as_spare`); the returned
     /// guard removes those left over when it is dropped, at the end of the
     /// run.
     pub fn prepare(&self) -> Result<SpareFiles, OutputError> {

@@ -442,9 +442,9 @@ impl Renderer {
         let (width, height) = self.size();
         let mut strips = SceneTiles::new((width, height));
         let mut image = RgbaImage::from_pixel(width, height, image::Rgba([0, 0, 0, 255]));
+        let clear = self.look.clear_colour();
         for y in (0..height).step_by(BACKDROP_STRIP_ROWS as usize) {
             let strip = PixelRect::new(0, y, width, BACKDROP_STRIP_ROWS.min(height - y));
-            let clear = self.look.clear_colour();
             let drawn = strips.draw(&self.gpu, &layers, &globals, clear, Some(strip))?;
             if let Some(patch) = strips.read_back(&self.gpu, drawn)? {
                 patch.paste_into(&mut image);
@@ -516,7 +516,8 @@ impl Renderer {
         Ok(())
     }
 
-    /// Draws `layers` over the whole image with 4x MSAA and waits for it.
+    /// Draws `layers` over the whole image, into the targets the caller
+    /// holds ([`Renderer::hold_whole_image`]), and waits for it.
     fn draw_whole_image(&self, layers: &Layers<'_>) -> Result<(), RenderError> {
         let targets = &self
             .whole_image
