@@ -224,7 +224,8 @@ fn the_whole_image_targets_live_only_while_something_is_drawn_whole() {
         else {
             return;
         };
-        // The backdrop is drawn whole; the frames are tiles.
+        // The backdrop (whole in 2D, in strips in 3D) is read back; the
+        // frames are tiles.
         assert!(!renderer.holds_whole_image_targets(), "{}D", mesh.dimension);
         let tile = renderer.render(&frame).unwrap();
         assert!(!renderer.holds_whole_image_targets(), "{}D", mesh.dimension);
