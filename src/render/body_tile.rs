@@ -34,7 +34,7 @@
 
 use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
-use super::gpu::{Gpu, check_scope, wait};
+use super::gpu::{Gpu, check_scope};
 use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources};
 use super::tile_slot::TileSlot;
 use image::RgbaImage;
@@ -314,13 +314,14 @@ impl BodyTiles {
                 pass.draw(0..6, inputs.body_lines.clone());
             }
         }
-        // The copy for the readback goes in the same submission: one round
-        // trip through the driver per frame instead of two.
-        self.slot
-            .encode_readback(&mut encoder, &target.texture, rect);
-        gpu.queue.submit([encoder.finish()]);
-        check_scope(validation, "drawing a tile")?;
-        wait(device, "drawing a tile")?;
+        self.slot.submit_with_readback(
+            gpu,
+            encoder,
+            &target.texture,
+            rect,
+            [validation],
+            "drawing a tile",
+        )?;
         Ok(Some(rect))
     }
 

@@ -360,6 +360,21 @@ pub(super) fn padded_row_bytes(width: u32) -> u32 {
     (width * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
 }
 
+/// A mappable buffer that an RGBA8 image of `(width, height)` pixels is
+/// copied into and read back from, rows [`padded_row_bytes`] apart.
+pub(super) fn readback_buffer(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: u64::from(padded_row_bytes(width)) * u64::from(height),
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// How a pipeline meets the depth target. Only 3D has one; in 2D every
 /// pipeline paints in draw order and this is ignored.
 ///

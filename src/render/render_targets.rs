@@ -20,7 +20,7 @@
 
 use super::RenderError;
 use super::gpu::{Gpu, check_scope};
-use super::gpu_resources::{COLOR_FORMAT, DEPTH_FORMAT, padded_row_bytes};
+use super::gpu_resources::{COLOR_FORMAT, DEPTH_FORMAT, padded_row_bytes, readback_buffer};
 use super::renderer::read_texture;
 use image::RgbaImage;
 
@@ -55,15 +55,17 @@ impl RenderTargets {
                 view_formats: &[],
             })
         };
-        let msaa_view = (samples > 1).then(|| {
+        // The targets of `samples` samples are drawn into, never read.
+        let attachment = |what: &str, format| {
             texture(
-                "multisampled colour",
-                COLOR_FORMAT,
+                what,
+                format,
                 samples,
                 wgpu::TextureUsages::RENDER_ATTACHMENT,
             )
             .create_view(&Default::default())
-        });
+        };
+        let msaa_view = (samples > 1).then(|| attachment("multisampled colour", COLOR_FORMAT));
         let resolved = texture(
             "colour",
             COLOR_FORMAT,
@@ -71,15 +73,7 @@ impl RenderTargets {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let resolved_view = resolved.create_view(&Default::default());
-        let depth_view = depth.then(|| {
-            texture(
-                "depth",
-                DEPTH_FORMAT,
-                samples,
-                wgpu::TextureUsages::RENDER_ATTACHMENT,
-            )
-            .create_view(&Default::default())
-        });
+        let depth_view = depth.then(|| attachment("depth", DEPTH_FORMAT));
         RenderTargets {
             msaa_view,
             resolved,
@@ -143,12 +137,7 @@ impl WholeImageTargets {
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out_of_memory = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let targets = RenderTargets::new(gpu, size, samples, depth, "whole image");
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("whole image readback buffer"),
-            size: u64::from(padded_row_bytes(size.0)) * u64::from(size.1),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = readback_buffer(device, "whole image readback buffer", size);
         check_scope(out_of_memory, "creating render targets")?;
         check_scope(validation, "creating render targets")?;
         Ok(WholeImageTargets {

@@ -34,7 +34,7 @@
 use super::RenderError;
 use super::body_tile::projected_rect;
 use super::frame_image::{Patch, PixelRect};
-use super::gpu::{Gpu, check_scope, wait};
+use super::gpu::Gpu;
 use super::gpu_resources::Globals;
 use super::render_targets::RenderTargets;
 use super::renderer::{Layers, record_layers};
@@ -139,13 +139,14 @@ impl SceneTiles {
             pass.set_scissor_rect(0, 0, rect.width, rect.height);
             record_layers(&mut pass, layers);
         }
-        // The copy for the readback goes in the same submission.
-        self.slot
-            .encode_readback(&mut encoder, &target.resolved, rect);
-        gpu.queue.submit([encoder.finish()]);
-        check_scope(out_of_memory, "drawing a 3D tile")?;
-        check_scope(validation, "drawing a 3D tile")?;
-        wait(device, "drawing a 3D tile")?;
+        self.slot.submit_with_readback(
+            gpu,
+            encoder,
+            &target.resolved,
+            rect,
+            [out_of_memory, validation],
+            "drawing a 3D tile",
+        )?;
         Ok(Some(rect))
     }
 

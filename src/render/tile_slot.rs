@@ -12,8 +12,8 @@
 use super::RenderError;
 use super::body_tile::tile_transform;
 use super::frame_image::{Patch, PixelRect};
-use super::gpu::{Gpu, check_scope};
-use super::gpu_resources::padded_row_bytes;
+use super::gpu::{Gpu, check_scope, wait};
+use super::gpu_resources::{padded_row_bytes, readback_buffer};
 use super::renderer::{encode_texture_copy, read_buffer};
 
 /// Tile targets grow in steps of this many pixels per side.
@@ -60,12 +60,7 @@ impl<T> TileSlot<T> {
             );
             let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
             let out_of_memory = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-            let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("tile readback buffer"),
-                size: u64::from(padded_row_bytes(capacity.0)) * u64::from(capacity.1),
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
+            let readback = readback_buffer(&gpu.device, "tile readback buffer", capacity);
             self.grown = Some(Grown {
                 capacity,
                 target: make(gpu, capacity),
@@ -87,22 +82,33 @@ impl<T> TileSlot<T> {
             .target
     }
 
-    /// Records the copy of the tile at `rect`, drawn at the top left of
-    /// `texture` (one sample per pixel), into the readback buffer.
-    pub fn encode_readback(
+    /// Ends `encoder`, which drew the tile at `rect` at the top left of
+    /// `texture` (one sample per pixel), with the copy of the tile into the
+    /// readback buffer, submits it and waits for it: one round trip through
+    /// the driver per tile. `scopes` are the error scopes pushed for the
+    /// tile, innermost first; an error they caught is reported as `during`.
+    pub fn submit_with_readback(
         &self,
-        encoder: &mut wgpu::CommandEncoder,
+        gpu: &Gpu,
+        mut encoder: wgpu::CommandEncoder,
         texture: &wgpu::Texture,
         rect: PixelRect,
-    ) {
+        scopes: impl IntoIterator<Item = wgpu::ErrorScopeGuard>,
+        during: &'static str,
+    ) -> Result<(), RenderError> {
         let grown = self.grown.as_ref().expect("a tile is drawn in a target");
         encode_texture_copy(
-            encoder,
+            &mut encoder,
             texture,
             &grown.readback,
             padded_row_bytes(rect.width),
             (rect.width, rect.height),
         );
+        gpu.queue.submit([encoder.finish()]);
+        for scope in scopes {
+            check_scope(scope, during)?;
+        }
+        wait(&gpu.device, during)
     }
 
     /// The tile at `rect` (none when nothing was drawn), copied into the
