@@ -394,6 +394,44 @@ fn mismatched_frames_are_typed_errors() {
     assert!(error.to_string().contains("vertex 9"), "{error}");
 }
 
+/// The settings of the tile tests: 480x270, a scalar field on a fixed
+/// range, edges, the legend, and a ground at `ground_height`.
+fn tile_test_settings(camera: Camera, ground_height: f32) -> RenderSettings {
+    RenderSettings {
+        width: 480,
+        height: 270,
+        camera,
+        colouring: Colouring::Scalar {
+            range: Some([-0.6, 0.8]),
+            label: "value",
+        },
+        draw_edges: true,
+        draw_legend: true,
+        ground_height: Some(ground_height),
+        ..RenderSettings::default()
+    }
+}
+
+/// The renderers a tile test compares (`None` when it may skip for lack of
+/// an adapter): one drawing the frames' tiles; one for whole images, which
+/// grow a renderer's tile target to the image, where a tile may round a
+/// coverage differently; and one prepared on its own and warmed up with a
+/// throwaway frame before it was given the run, which must draw the same
+/// bytes as the first.
+fn tile_test_renderers(
+    settings: &RenderSettings,
+    mesh: &RenderMesh,
+    frames: &[RenderFrame],
+) -> Option<[Renderer; 3]> {
+    let renderer = renderer_or_skip(settings, mesh, frames)?;
+    let whole_renderer = Renderer::new(settings, mesh, frames).unwrap();
+    let prepared = Renderer::prepare(settings, mesh)
+        .and_then(PreparedRenderer::warmed_up)
+        .and_then(|prepared| prepared.with_frames(frames))
+        .unwrap();
+    Some([renderer, whole_renderer, prepared])
+}
+
 /// A 2D frame is drawn as a tile around the body pasted into the run's fixed
 /// backdrop: it must show what drawing the whole image shows, wherever the
 /// body is — resting on the ground line, partly outside the image, entirely
@@ -427,35 +465,16 @@ fn a_2d_body_tile_shows_what_the_whole_image_shows() {
         frame(9.0, 9.0, 0.0),   // entirely outside
         frame(1.2, 0.2, 0.1),   // reaching under the legend
     ];
-    let settings = RenderSettings {
-        width: 480,
-        height: 270,
-        camera: Camera::Orthographic {
-            center: [0.0, 0.3],
-            height: 2.0,
-        },
-        colouring: Colouring::Scalar {
-            range: Some([-0.6, 0.8]),
-            label: "value",
-        },
-        draw_edges: true,
-        draw_legend: true,
-        ground_height: Some(-0.25),
-        ..RenderSettings::default()
+    let camera = Camera::Orthographic {
+        center: [0.0, 0.3],
+        height: 2.0,
     };
-    let Some(mut renderer) = renderer_or_skip(&settings, &render_mesh, &frames) else {
+    let settings = tile_test_settings(camera, -0.25);
+    let Some([mut renderer, mut whole_renderer, mut prepared]) =
+        tile_test_renderers(&settings, &render_mesh, &frames)
+    else {
         return;
     };
-    // Whole images grow a renderer's tile target to the image, and a tile
-    // drawn in a larger target may round a coverage differently: they get
-    // a renderer of their own.
-    let mut whole_renderer = Renderer::new(&settings, &render_mesh, &frames).unwrap();
-    // A renderer prepared on its own, warmed up with a throwaway frame, then
-    // given the run, draws the same bytes.
-    let mut prepared = Renderer::prepare(&settings, &render_mesh)
-        .and_then(PreparedRenderer::warmed_up)
-        .and_then(|prepared| prepared.with_frames(&frames))
-        .unwrap();
     for (k, frame) in frames.iter().enumerate() {
         let tiled = renderer.render(frame).unwrap();
         assert!(
@@ -535,31 +554,17 @@ fn a_3d_scene_tile_shows_what_the_whole_image_shows() {
         frame(2.4, 0.8, 0.0, 0.1),   // reaching under the legend
         frame(0.0, 0.5, 5.5, 0.0),   // reaching behind the eye
     ];
-    let settings = RenderSettings {
-        width: 480,
-        height: 270,
-        camera: Camera::Perspective {
-            eye: [0.0, 2.0, 6.0],
-            target: [0.0, 0.5, 0.0],
-            fov_degrees: 45.0,
-        },
-        colouring: Colouring::Scalar {
-            range: Some([-0.6, 0.8]),
-            label: "value",
-        },
-        draw_edges: true,
-        draw_legend: true,
-        ground_height: Some(0.0),
-        ..RenderSettings::default()
+    let camera = Camera::Perspective {
+        eye: [0.0, 2.0, 6.0],
+        target: [0.0, 0.5, 0.0],
+        fov_degrees: 45.0,
     };
-    let Some(mut renderer) = renderer_or_skip(&settings, &render_mesh, &frames) else {
+    let settings = tile_test_settings(camera, 0.0);
+    let Some([mut renderer, mut whole_renderer, mut prepared]) =
+        tile_test_renderers(&settings, &render_mesh, &frames)
+    else {
         return;
     };
-    let mut whole_renderer = Renderer::new(&settings, &render_mesh, &frames).unwrap();
-    let mut prepared = Renderer::prepare(&settings, &render_mesh)
-        .and_then(PreparedRenderer::warmed_up)
-        .and_then(|prepared| prepared.with_frames(&frames))
-        .unwrap();
     let differing = |a: &image::RgbaImage, b: &image::RgbaImage, above: u8| {
         a.pixels()
             .zip(b.pixels())
