@@ -208,13 +208,8 @@ impl FrameImage {
                 let rows = patch.rect.rows();
                 let (start, end) = (rows.start as usize * stride, rows.end as usize * stride);
                 scratch.clear();
-                scratch.extend_from_slice(&raw[start..end]);
-                let x = patch.rect.x as usize * 4;
-                for (row, source) in scratch
-                    .chunks_exact_mut(stride)
-                    .zip(patch.pixels.chunks_exact(patch.rect.width as usize * 4))
-                {
-                    row[x..x + source.len()].copy_from_slice(source);
+                for y in rows {
+                    self.push_rgba_row(y, scratch);
                 }
                 span(&raw[..start]);
                 span(scratch);
