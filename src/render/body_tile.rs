@@ -257,25 +257,6 @@ impl BodyTiles {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("tile encoder"),
         });
-        // The backdrop under the tile, then the body over it.
-        encoder.copy_texture_to_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.backdrop,
-                mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: rect.x,
-                    y: rect.y,
-                    z: 0,
-                },
-                aspect: wgpu::TextureAspect::All,
-            },
-            target.texture.as_image_copy(),
-            wgpu::Extent3d {
-                width: rect.width,
-                height: rect.height,
-                depth_or_array_layers: 1,
-            },
-        );
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("tile pass"),
@@ -298,6 +279,8 @@ impl BodyTiles {
             pass.set_scissor_rect(0, 0, rect.width, rect.height);
             pass.set_bind_group(0, &r.bind_group, &[]);
             pass.set_bind_group(1, &self.backdrop_bind_group, &[]);
+            pass.set_pipeline(&tile.backdrop);
+            pass.draw(0..3, 0..1);
             if inputs.body_vertices > 0 {
                 pass.set_pipeline(&tile.surface);
                 pass.set_vertex_buffer(0, tile.body_vertices.slice(..));

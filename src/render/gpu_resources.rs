@@ -115,6 +115,9 @@ pub(super) struct TileResources {
     /// shader) and the ground line (with `line`).
     pub background: wgpu::RenderPipeline,
     pub ground: Option<wgpu::RenderPipeline>,
+    /// Copies the backdrop texture (bind group 1, laid out as
+    /// `backdrop_layout`) into a tile.
+    pub backdrop: wgpu::RenderPipeline,
     /// The backdrop texture's bind group layout (group 1), read by the
     /// fringes.
     pub backdrop_layout: wgpu::BindGroupLayout,
@@ -264,6 +267,13 @@ impl GpuResources {
                 layout: &with_backdrop,
                 ..single_sampled
             };
+            let backdrop = reading_backdrop.build(
+                "backdrop pipeline",
+                &device.create_shader_module(shader!("backdrop")),
+                &[],
+                None,
+                DepthTest::None,
+            );
             let body2d = device.create_shader_module(shader!("body2d"));
             let surface = single_sampled.build_entries(
                 "2D body surface pipeline",
@@ -319,6 +329,7 @@ impl GpuResources {
                         DepthTest::None,
                     )
                 }),
+                backdrop,
                 backdrop_layout,
                 surface,
                 fringe,
