@@ -13,6 +13,7 @@ mod check_command;
 mod cli;
 mod compare_command;
 mod preflight;
+mod process_clock;
 mod progress;
 mod render_stage;
 mod run_command;

@@ -13,6 +13,7 @@
 
 use super::cli::{RunArgs, VideoChoice};
 use super::preflight::{self, SceneInput};
+use super::process_clock::{Stopwatch, cores};
 use super::progress::{Progress, ProgressMode};
 use super::render_stage::RenderStage;
 use super::run_health::RunHealth;
@@ -31,11 +32,10 @@ use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
 use crate::sim::FrameStats;
 use std::collections::VecDeque;
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// Runs `elasto run`.
 pub fn run(args: &RunArgs) -> Result<(), AppError> {
-    let start = Instant::now();
+    let start = Stopwatch::start();
     // 1. Everything the user gave is validated before anything is written.
     let source = SceneSource::resolve(args.scene.as_deref())?;
     let mut overrides = scene_overrides(&args.set)?;
@@ -83,8 +83,8 @@ struct Plan {
     force: bool,
     strict: bool,
     progress: ProgressMode,
-    /// `--profile`: when the run started.
-    profile: Option<Instant>,
+    /// `--profile`: when the run started, and its CPU time then.
+    profile: Option<Stopwatch>,
 }
 
 /// The videos to write; a format this machine cannot write is an error
@@ -260,14 +260,18 @@ fn run_scene<const D: usize>(
     progress.finish();
 
     // 4. Complete the frames and the videos.
+    let mut rendering = None;
     let rendered = simulated.and_then(|()| match render.take() {
         Some(render) => {
+            let deferred = !render.is_streaming();
+            let watch = Stopwatch::start();
             let mut written = Ok(());
             let finished = render.finish(plan.progress, &mut |costs| {
                 if written.is_ok() {
                     written = log.rendered(costs);
                 }
             });
+            rendering = deferred.then(|| watch.span());
             finished.map_err(AppError::Render).and(written)
         }
         None => Ok(()),
@@ -282,7 +286,7 @@ fn run_scene<const D: usize>(
         return Err(error);
     }
     if let (Some(start), Some(profile)) = (plan.profile, &log.profile) {
-        print!("{}", profile.table(start.elapsed()));
+        print!("{}", profile.table(start.span(), rendering, cores()));
     }
 
     if plan.progress != ProgressMode::Quiet {

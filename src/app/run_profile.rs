@@ -8,7 +8,13 @@
 //! time. Rendering phases run on other threads than the simulation (drawing
 //! on the main thread, PNG and video encoding on workers), so the totals can
 //! add up to more than the wall time: that is the work that overlapped.
+//!
+//! The run's wall time, and that of the rendering after the simulation when
+//! the frames wait for the whole run (automatic camera or colour range),
+//! come with the cores busy on average over it: the process's CPU time over
+//! the wall time (see `process_clock`), out of the machine's cores.
 
+use super::process_clock::Span;
 use crate::render::FrameCost;
 use crate::solver::PhaseTimes;
 use std::fmt::Write as _;
@@ -60,8 +66,10 @@ impl RunProfile {
         ]);
     }
 
-    /// The table, ending with the run's wall time.
-    pub fn table(&self, wall: Duration) -> String {
+    /// The table, ending with the run's wall time and, when the frames were
+    /// rendered after the simulation, that rendering's; each with the cores
+    /// busy over it out of `cores`.
+    pub fn table(&self, run: Span, rendering: Option<Span>, cores: usize) -> String {
         let mut text = String::new();
         let _ = writeln!(
             text,
@@ -90,14 +98,16 @@ impl RunProfile {
                 total.as_secs_f64()
             );
         }
-        let _ = writeln!(
-            text,
-            "{:<22} {:>8} {:>14} {:>9.3}",
-            "wall time of the run",
-            "",
-            "",
-            wall.as_secs_f64()
-        );
+        let spans = [("wall time of the run", Some(run))];
+        let rendering = [("rendering after the simulation", rendering)];
+        for (name, span) in spans.into_iter().chain(rendering) {
+            let Some(span) = span else { continue };
+            let _ = write!(text, "{name:<46} {:>9.3}", span.wall.as_secs_f64());
+            if let Some(busy) = span.cores_busy() {
+                let _ = write!(text, "   {busy:.2} of {cores} cores busy");
+            }
+            text.push('\n');
+        }
         text
     }
 }
@@ -153,7 +163,11 @@ mod tests {
                 video: ms(5),
             });
         }
-        let table = profile.table(Duration::from_millis(1500));
+        let run = Span {
+            wall: ms(1500),
+            cpu: None,
+        };
+        let table = profile.table(run, None, 2);
         assert_eq!(row(&table, "assembly"), ["3", "2.000", "0.006"]);
         assert_eq!(row(&table, "factorisation"), ["3", "3.000", "0.009"]);
         assert_eq!(row(&table, "solve"), ["3", "1.000", "0.003"]);
@@ -169,8 +183,39 @@ mod tests {
     fn a_run_without_rendering_has_no_rendering_rows() {
         let mut profile = RunProfile::default();
         profile.simulated(&PhaseTimes::default(), ms(2));
-        let table = profile.table(ms(2));
+        let run = Span {
+            wall: ms(2),
+            cpu: None,
+        };
+        let table = profile.table(run, None, 2);
         assert_eq!(row(&table, "other simulation"), ["1", "2.000", "0.002"]);
         assert!(!table.contains("draw"), "{table}");
+    }
+
+    #[test]
+    fn spans_show_the_cores_busy_over_them() {
+        let mut profile = RunProfile::default();
+        profile.simulated(&PhaseTimes::default(), ms(2));
+        let run = Span {
+            wall: ms(400),
+            cpu: Some(ms(620)),
+        };
+        let rendering = Span {
+            wall: ms(200),
+            cpu: Some(ms(370)),
+        };
+        let table = profile.table(run, Some(rendering), 2);
+        assert_eq!(
+            row(&table, "wall time of the run"),
+            ["0.400", "1.55", "of", "2", "cores", "busy"]
+        );
+        assert_eq!(
+            row(&table, "rendering after the simulation"),
+            ["0.200", "1.85", "of", "2", "cores", "busy"]
+        );
+        // Without a CPU clock, the wall time alone.
+        let table = profile.table(Span { cpu: None, ..run }, None, 2);
+        assert_eq!(row(&table, "wall time of the run"), ["0.400"]);
+        assert!(!table.contains("rendering after"), "{table}");
     }
 }

@@ -23,14 +23,16 @@
 //!
 //! which is pixel `p − (x0, y0)` of the tile target (`to_tile` in
 //! `shaders/globals.wgsl`; the whole image uses `s = 1, o = 0`, which leaves
-//! every position bit for bit unchanged). The tile starts from the
-//! backdrop's own pixels, copied texture to texture (a copy of memory on a
-//! software rasteriser, where a full-tile shader pass cost more than the
-//! body), so the body's anti-aliased edges blend with the same background;
-//! the pass is scissored to `R`, the only part read back. The extra multiply-add
-//! moves positions by rounding errors, so an edge pixel's coverage may round
-//! to the next level, in a few pixels. `R` holds every vertex and every edge
-//! line's square caps with a margin of two pixels.
+//! every position bit for bit unchanged). The tile's pass, scissored to `R`
+//! (the only part read back), starts with the backdrop's own pixels, read
+//! from the backdrop texture by a shader (`shaders/backdrop.wgsl`), so the
+//! body's anti-aliased edges blend with the same background. A texture to
+//! texture copy would be simpler but costs more on wgpu's GL backend: it
+//! copies with `glCopyTexSubImage2D`, which llvmpipe does as a blit, a
+//! round trip through its rasteriser of its own before the tile's. The
+//! extra multiply-add moves positions by rounding errors, so an edge pixel's
+//! coverage may round to the next level, in a few pixels. `R` holds every
+//! vertex and every edge line's square caps with a margin of two pixels.
 
 use super::RenderError;
 use super::frame_image::{Patch, PixelRect};
@@ -139,9 +141,7 @@ impl TileTarget {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::COPY_DST,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let view = texture.create_view(&Default::default());
@@ -164,9 +164,8 @@ pub(super) struct TileInputs<'a> {
 /// The fixed backdrop of a 2D run, on the GPU, and the tile target its
 /// frames are drawn in.
 pub(super) struct BodyTiles {
-    /// The backdrop, copied under each tile.
-    backdrop: wgpu::Texture,
-    /// The backdrop for the fringes' inner halves to read.
+    /// The backdrop texture, which each tile starts from and the fringes'
+    /// inner halves read.
     backdrop_bind_group: wgpu::BindGroup,
     slot: TileSlot<TileTarget>,
 }
@@ -199,9 +198,7 @@ impl BodyTiles {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_DST
-                | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
         gpu.queue.write_texture(
@@ -225,7 +222,6 @@ impl BodyTiles {
         });
         check_scope(validation, "preparing the 2D backdrop")?;
         Ok(BodyTiles {
-            backdrop: texture,
             backdrop_bind_group,
             slot: TileSlot::new(backdrop.dimensions()),
         })
@@ -265,7 +261,9 @@ impl BodyTiles {
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Load,
+                        // The backdrop covers the scissored rectangle: the
+                        // clear colour never shows in what is read back.
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
                         store: wgpu::StoreOp::Store,
                     },
                 })],

@@ -1,21 +1,39 @@
 //! `elasto run --profile` and the rendering columns of `stats.csv`: the
 //! table names every phase with numbers that add up, `render_ms` and
 //! `encode_ms` are positive for every rendered frame (streamed or rendered
-//! after the simulation) and 0 without rendering.
+//! after the simulation) and 0 without rendering; the run, and the rendering
+//! after the simulation, show the cores busy over them.
 
 use crate::cli_common as common;
 use common::*;
 
-/// The numbers of the table row of `phase` on stdout.
+/// The numbers of the table row of `phase` on stdout (for a span's row,
+/// the wall time and the cores busy out of the machine's).
 fn row(table: &str, phase: &str) -> Vec<f64> {
     let line = table
         .lines()
         .find(|l| l.starts_with(phase))
         .unwrap_or_else(|| panic!("no row `{phase}` in:\n{table}"));
-    line[phase.len()..]
-        .split_whitespace()
+    let line = line[phase.len()..].trim_end();
+    let line = line.strip_suffix("cores busy").unwrap_or(line);
+    line.split_whitespace()
+        .filter(|&v| v != "of")
         .map(|v| v.parse().unwrap())
         .collect()
+}
+
+/// The wall time and cores busy of a span's row, checked against the
+/// machine's cores: the process's CPU time over a stretch cannot exceed
+/// its cores times the wall time.
+fn span(table: &str, name: &str) -> (f64, f64) {
+    let [wall, busy, cores] = row(table, name)[..] else {
+        panic!("{name}: {table}")
+    };
+    let machine = std::thread::available_parallelism().unwrap().get() as f64;
+    assert_eq!(cores, machine, "{table}");
+    assert!(wall > 0.0 && busy > 0.0, "{table}");
+    assert!(busy <= cores * 1.02 + 0.05, "{table}");
+    (wall, busy)
 }
 
 fn cell(header: &[String], row: &[String], name: &str) -> f64 {
@@ -74,9 +92,9 @@ fn profile_prints_every_phase_and_stats_carry_render_times() {
         rendering_total += total;
     }
     assert!(row(&table, "draw")[2] > 0.0, "{table}");
-    let wall = row(&table, "wall time of the run");
-    assert_eq!(wall.len(), 1, "{table}");
-    assert!(wall[0] > 0.0);
+    let (wall, _) = span(&table, "wall time of the run");
+    let (rendering, _) = span(&table, "rendering after the simulation");
+    assert!(rendering < wall, "{table}");
 
     let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
     assert_eq!(rows.len(), 5);
@@ -114,6 +132,26 @@ fn a_streamed_run_also_has_render_times_in_every_row() {
     );
     assert_code(&o, 0);
     assert!(stdout(&o).is_empty(), "no table without --profile");
+    let o = run(
+        tmp.path(),
+        &[
+            "--video",
+            "none",
+            "--quiet",
+            "--force",
+            "--profile",
+            "--set",
+            "render.camera.center=[0.5, 1.0]",
+            "--set",
+            "render.camera.height=3.0",
+            "--set",
+            "render.range=[0.0, 1.0]",
+        ],
+    );
+    assert_code(&o, 0);
+    let table = stdout(&o);
+    span(&table, "wall time of the run");
+    assert!(!table.contains("rendering after"), "nothing waits for the run: {table}");
     let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
     assert_eq!(rows.len(), 5);
     for (i, r) in rows.iter().enumerate() {
