@@ -8,7 +8,10 @@
 //! is that of the medians. The default videos (APNG and MP4, when ffmpeg is
 //! on `PATH`) and the PNG frames alone are timed too. Each variant re-runs
 //! into a folder of its own with `--force`, as a user re-renders a scene
-//! (its frames reuse the files of its previous run).
+//! (its frames reuse the files of its previous run). The rendering runs
+//! also print `--profile`'s cores busy while their frames were drawn,
+//! encoded and written after the simulation (the process's CPU time over the
+//! wall time of that stretch; the median over the runs).
 
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -27,25 +30,53 @@ fn main() {
         ("default videos", &[]),
     ];
     let mut times: Vec<Vec<Duration>> = vec![Vec::new(); variants.len()];
+    let mut busy: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
     for _ in 0..runs {
-        for (index, ((_, flags), times)) in variants.iter().zip(&mut times).enumerate() {
+        for (index, (_, flags)) in variants.iter().enumerate() {
             let start = Instant::now();
-            let status = Command::new(env!("CARGO_BIN_EXE_elasto"))
-                .args(["run", "--quiet", "--force", "--out"])
+            let output = Command::new(env!("CARGO_BIN_EXE_elasto"))
+                .args(["run", "--quiet", "--force", "--profile", "--out"])
                 .arg(out.path().join(format!("variant-{index}")))
                 .args(*flags)
-                .status()
+                .output()
                 .expect("elasto runs");
-            assert!(status.success(), "elasto run {flags:?} failed");
-            times.push(start.elapsed());
+            times[index].push(start.elapsed());
+            assert!(output.status.success(), "elasto run {flags:?} failed");
+            let profile = String::from_utf8_lossy(&output.stdout);
+            if let Some(cores) = cores_busy_rendering(&profile) {
+                busy[index].push(cores);
+            }
         }
     }
     let medians: Vec<f64> = times.iter_mut().map(|t| median(t)).collect();
     println!("report-drop-2d, 300 frames at 1280x720, median of {runs} runs");
-    println!("{:<32} {:>8} {:>14}", "run", "wall s", "/ --no-render");
-    for ((name, _), seconds) in variants.iter().zip(&medians) {
-        println!("{name:<32} {seconds:>8.3} {:>14.2}", seconds / medians[0]);
+    println!(
+        "{:<32} {:>8} {:>14} {:>20}",
+        "run", "wall s", "/ --no-render", "cores busy rendering"
+    );
+    for (((name, _), seconds), busy) in variants.iter().zip(&medians).zip(&mut busy) {
+        let busy = if busy.is_empty() {
+            "-".to_owned()
+        } else {
+            busy.sort_by(f64::total_cmp);
+            format!("{:.2}", busy[busy.len() / 2])
+        };
+        println!(
+            "{name:<32} {seconds:>8.3} {:>14.2} {busy:>20}",
+            seconds / medians[0]
+        );
     }
+}
+
+/// The cores busy on `--profile`'s row for the rendering after the
+/// simulation: `rendering after the simulation  0.212   1.86 of 2 cores busy`.
+fn cores_busy_rendering(profile: &str) -> Option<f64> {
+    let row = profile
+        .lines()
+        .find(|line| line.starts_with("rendering after the simulation"))?;
+    let words: Vec<&str> = row.split_whitespace().collect();
+    let of = words.iter().position(|&w| w == "of")?;
+    words.get(of.checked_sub(1)?)?.parse().ok()
 }
 
 /// The median in seconds.

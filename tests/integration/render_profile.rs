@@ -151,7 +151,10 @@ fn a_streamed_run_also_has_render_times_in_every_row() {
     assert_code(&o, 0);
     let table = stdout(&o);
     span(&table, "wall time of the run");
-    assert!(!table.contains("rendering after"), "nothing waits for the run: {table}");
+    assert!(
+        !table.contains("rendering after"),
+        "nothing waits for the run: {table}"
+    );
     let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
     assert_eq!(rows.len(), 5);
     for (i, r) in rows.iter().enumerate() {
