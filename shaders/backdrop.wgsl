@@ -1,6 +1,7 @@
 // 2D body tile: the run's fixed backdrop (background, ground and ground
-// line, drawn once) copied into the tile's target under the body, pixel for
-// pixel from the tile's place in the whole image.
+// line, drawn once) drawn into the tile's target under the body, pixel for
+// pixel from the tile's place in the whole image (the pass is scissored to
+// the tile; see src/render/body_tile.rs for why this is not a texture copy).
 
 // `Globals` and its binding `g` come from globals.wgsl, prepended when loaded.
 

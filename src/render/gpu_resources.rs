@@ -7,9 +7,9 @@
 //! `Rgba8UnormSrgb` targets (with a depth target in 3D), and vertex buffers
 //! for the surface's triangle corners and the instanced line segments. In
 //! 2D also the single-sampled pipelines and buffers of the body tiles
-//! ([`TileResources`]: surface, fringes, edge lines). The targets
-//! themselves are sized for a tile or the whole image and made where they
-//! are drawn into (`render_targets`).
+//! ([`TileResources`]: the backdrop under a tile, surface, fringes, edge
+//! lines). The targets themselves are sized for a tile or the whole image
+//! and made where they are drawn into (`render_targets`).
 //!
 //! 2D has no depth target: everything lies in the plane z = 0 under an
 //! orthographic camera and edges are not pulled towards the eye, so every
@@ -115,8 +115,8 @@ pub(super) struct TileResources {
     /// shader) and the ground line (with `line`).
     pub background: wgpu::RenderPipeline,
     pub ground: Option<wgpu::RenderPipeline>,
-    /// Copies the backdrop texture (bind group 1, laid out as
-    /// `backdrop_layout`) into a tile.
+    /// Draws the backdrop texture's pixels (bind group 1, laid out as
+    /// `backdrop_layout`) into a tile, under the body.
     pub backdrop: wgpu::RenderPipeline,
     /// The backdrop texture's bind group layout (group 1), read by the
     /// fringes.
