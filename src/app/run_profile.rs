@@ -98,9 +98,11 @@ impl RunProfile {
                 total.as_secs_f64()
             );
         }
-        let spans = [("wall time of the run", Some(run))];
-        let rendering = [("rendering after the simulation", rendering)];
-        for (name, span) in spans.into_iter().chain(rendering) {
+        let spans = [
+            ("wall time of the run", Some(run)),
+            ("rendering after the simulation", rendering),
+        ];
+        for (name, span) in spans {
             let Some(span) = span else { continue };
             let _ = write!(text, "{name:<46} {:>9.3}", span.wall.as_secs_f64());
             if let Some(busy) = span.cores_busy() {
@@ -126,6 +128,14 @@ mod tests {
 
     fn ms(v: u64) -> Duration {
         Duration::from_millis(v)
+    }
+
+    /// A span of `wall` ms, with `cpu` ms of CPU time when known.
+    fn span(wall: u64, cpu: Option<u64>) -> Span {
+        Span {
+            wall: ms(wall),
+            cpu: cpu.map(ms),
+        }
     }
 
     /// The cells of the row of `phase`.
@@ -163,11 +173,7 @@ mod tests {
                 video: ms(5),
             });
         }
-        let run = Span {
-            wall: ms(1500),
-            cpu: None,
-        };
-        let table = profile.table(run, None, 2);
+        let table = profile.table(span(1500, None), None, 2);
         assert_eq!(row(&table, "assembly"), ["3", "2.000", "0.006"]);
         assert_eq!(row(&table, "factorisation"), ["3", "3.000", "0.009"]);
         assert_eq!(row(&table, "solve"), ["3", "1.000", "0.003"]);
@@ -183,11 +189,7 @@ mod tests {
     fn a_run_without_rendering_has_no_rendering_rows() {
         let mut profile = RunProfile::default();
         profile.simulated(&PhaseTimes::default(), ms(2));
-        let run = Span {
-            wall: ms(2),
-            cpu: None,
-        };
-        let table = profile.table(run, None, 2);
+        let table = profile.table(span(2, None), None, 2);
         assert_eq!(row(&table, "other simulation"), ["1", "2.000", "0.002"]);
         assert!(!table.contains("draw"), "{table}");
     }
@@ -196,15 +198,8 @@ mod tests {
     fn spans_show_the_cores_busy_over_them() {
         let mut profile = RunProfile::default();
         profile.simulated(&PhaseTimes::default(), ms(2));
-        let run = Span {
-            wall: ms(400),
-            cpu: Some(ms(620)),
-        };
-        let rendering = Span {
-            wall: ms(200),
-            cpu: Some(ms(370)),
-        };
-        let table = profile.table(run, Some(rendering), 2);
+        let rendering = span(200, Some(370));
+        let table = profile.table(span(400, Some(620)), Some(rendering), 2);
         assert_eq!(
             row(&table, "wall time of the run"),
             ["0.400", "1.55", "of", "2", "cores", "busy"]
@@ -214,7 +209,7 @@ mod tests {
             ["0.200", "1.85", "of", "2", "cores", "busy"]
         );
         // Without a CPU clock, the wall time alone.
-        let table = profile.table(Span { cpu: None, ..run }, None, 2);
+        let table = profile.table(span(400, None), None, 2);
         assert_eq!(row(&table, "wall time of the run"), ["0.400"]);
         assert!(!table.contains("rendering after"), "{table}");
     }

@@ -15,6 +15,7 @@
 
 use super::AppError;
 use super::cli::{SweepArgs, VideoChoice};
+use super::process_clock::cores;
 use super::progress::ProgressMode;
 use super::run_command::videos;
 use super::{scene_overrides, shortcut_overrides};
@@ -268,7 +269,7 @@ impl SweepPlan {
         if to_run.is_empty() {
             return Ok(0);
         }
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let cores = cores();
         let jobs = (args.jobs.map_or(cores, |j| j as usize)).clamp(1, to_run.len());
         let threads = (cores / jobs).max(1);
         let program = std::env::current_exe().map_err(|source| SweepError::Io {

@@ -116,37 +116,23 @@ fn profile_prints_every_phase_and_stats_carry_render_times() {
 fn a_streamed_run_also_has_render_times_in_every_row() {
     let tmp = tempfile::tempdir().unwrap();
     // A fixed camera and range: frames are rendered while simulating.
-    let o = run(
-        tmp.path(),
-        &[
-            "--video",
-            "none",
-            "--quiet",
-            "--set",
-            "render.camera.center=[0.5, 1.0]",
-            "--set",
-            "render.camera.height=3.0",
-            "--set",
-            "render.range=[0.0, 1.0]",
-        ],
-    );
+    let streamed = [
+        "--video",
+        "none",
+        "--quiet",
+        "--set",
+        "render.camera.center=[0.5, 1.0]",
+        "--set",
+        "render.camera.height=3.0",
+        "--set",
+        "render.range=[0.0, 1.0]",
+    ];
+    let o = run(tmp.path(), &streamed);
     assert_code(&o, 0);
     assert!(stdout(&o).is_empty(), "no table without --profile");
     let o = run(
         tmp.path(),
-        &[
-            "--video",
-            "none",
-            "--quiet",
-            "--force",
-            "--profile",
-            "--set",
-            "render.camera.center=[0.5, 1.0]",
-            "--set",
-            "render.camera.height=3.0",
-            "--set",
-            "render.range=[0.0, 1.0]",
-        ],
+        &[&streamed[..], &["--force", "--profile"]].concat(),
     );
     assert_code(&o, 0);
     let table = stdout(&o);
