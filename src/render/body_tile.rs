@@ -39,7 +39,6 @@ use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope};
 use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources};
 use super::tile_slot::TileSlot;
-use image::RgbaImage;
 use nalgebra::{Matrix4, Vector4};
 
 /// Pixels around the body's vertices and edge lines' caps that the tile
@@ -171,12 +170,13 @@ pub(super) struct BodyTiles {
 }
 
 impl BodyTiles {
-    /// Uploads `backdrop` (the whole image without the body), which each
-    /// tile starts from.
+    /// Tiles over the backdrop drawn in `backdrop` (the whole image without
+    /// the body, single-sampled), which each tile starts from. The texture
+    /// is sampled where it was drawn: no copy of it is made.
     pub fn new(
         gpu: &Gpu,
         resources: &GpuResources,
-        backdrop: &RgbaImage,
+        backdrop: &wgpu::Texture,
     ) -> Result<Self, RenderError> {
         let Some(tile) = &resources.tile else {
             return Err(RenderError::Gpu {
@@ -186,32 +186,7 @@ impl BodyTiles {
         };
         let device = &gpu.device;
         let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let size = wgpu::Extent3d {
-            width: backdrop.width(),
-            height: backdrop.height(),
-            depth_or_array_layers: 1,
-        };
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("backdrop texture"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: COLOR_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        gpu.queue.write_texture(
-            texture.as_image_copy(),
-            backdrop.as_raw(),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * backdrop.width()),
-                rows_per_image: Some(backdrop.height()),
-            },
-            size,
-        );
-        let view = texture.create_view(&Default::default());
+        let view = backdrop.create_view(&Default::default());
         let backdrop_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("backdrop bind group"),
             layout: &tile.backdrop_layout,
@@ -223,7 +198,7 @@ impl BodyTiles {
         check_scope(validation, "preparing the 2D backdrop")?;
         Ok(BodyTiles {
             backdrop_bind_group,
-            slot: TileSlot::new(backdrop.dimensions()),
+            slot: TileSlot::new((backdrop.width(), backdrop.height())),
         })
     }
 

@@ -99,6 +99,35 @@ impl Legend {
         (self.panel.w + 2.0 * self.margin).ceil() as u32
     }
 
+    /// The text size in pixels.
+    pub fn font_px(&self) -> f32 {
+        self.font_px
+    }
+
+    /// The pixels `[x0, y0, x1, y1)` of the panel, which holds everything
+    /// the legend draws (the title, the bar and the ticks are laid out
+    /// inside it).
+    pub fn panel_pixels(&self) -> [i64; 4] {
+        let Rect { x, y, w, h } = self.panel;
+        [
+            x.floor() as i64,
+            y.floor() as i64,
+            (x + w).ceil() as i64,
+            (y + h).ceil() as i64,
+        ]
+    }
+
+    /// The same legend moved by `(dx, dy)` whole pixels, to be drawn on a
+    /// canvas that holds only its neighbourhood.
+    pub fn translated(&self, dx: i64, dy: i64) -> Legend {
+        let mut moved = self.clone();
+        for rect in [&mut moved.panel, &mut moved.bar] {
+            rect.x += dx as f32;
+            rect.y += dy as f32;
+        }
+        moved
+    }
+
     /// Draws the legend onto an sRGB image.
     pub fn draw(&self, image: &mut RgbaImage) {
         let s = self.font_px / 17.0;

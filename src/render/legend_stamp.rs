@@ -12,9 +12,13 @@
 //! the kept one.
 //!
 //! The footprint is found once by drawing the legend on a black and on a
-//! white image: a blend that changes no pixel of either changes no pixel at
+//! white canvas: a blend that changes no pixel of either changes no pixel at
 //! all (the change `round(c + a (t - c)) - c` is largest in size at
-//! `c = 0` or `c = 255`), and a margin of two pixels is added.
+//! `c = 0` or `c = 255`), and a margin of two pixels is added. The canvases
+//! hold only the legend's neighbourhood (its panel and twice the text size
+//! around it), with the legend moved onto them by whole pixels; should a
+//! changed pixel reach the canvas's edge inside the image, the search is
+//! repeated on canvases of the whole image.
 
 use super::frame_image::PixelRect;
 use super::legend::Legend;
@@ -36,32 +40,15 @@ pub(crate) struct LegendStamp {
 impl LegendStamp {
     /// A stamp of `legend` for images of `width` x `height` pixels.
     pub fn new(legend: Legend, width: u32, height: u32) -> Self {
-        let mut footprint: Option<[u32; 4]> = None;
-        for shade in [0u8, 255] {
-            let mut drawn = RgbaImage::from_pixel(width, height, image::Rgba([shade; 4]));
-            legend.draw(&mut drawn);
-            let changed = drawn
-                .as_raw()
-                .chunks_exact(4)
-                .enumerate()
-                .filter(|(_, pixel)| *pixel != [shade; 4]);
-            for (index, _) in changed {
-                let (x, y) = (index as u32 % width, index as u32 / width);
-                let f = footprint.get_or_insert([x, y, x + 1, y + 1]);
-                *f = [f[0].min(x), f[1].min(y), f[2].max(x + 1), f[3].max(y + 1)];
-            }
-        }
-        let [x0, y0, x1, y1] = footprint.unwrap_or([0, 0, 0, 0]);
-        let margin = 2;
-        let footprint = [
-            x0.saturating_sub(margin),
-            y0.saturating_sub(margin),
-            (x1 + margin).min(width),
-            (y1 + margin).min(height),
-        ];
+        let near = near_window(&legend, width, height);
+        let whole = [0, 0, width, height];
+        let footprint = match changed_pixels(&legend, near) {
+            Some(found) if !reaches_inner_edge(found, near, whole) => Some(found),
+            _ => changed_pixels(&legend, whole),
+        };
         Self {
             legend,
-            footprint,
+            footprint: with_margin(footprint, width, height),
             size: (width, height),
             under: Vec::new(),
             over: Vec::new(),
@@ -126,6 +113,66 @@ impl LegendStamp {
     }
 }
 
+/// The legend's neighbourhood `[x0, y0, x1, y1)` in a `width` x `height`
+/// image: its panel and twice the text size around it.
+fn near_window(legend: &Legend, width: u32, height: u32) -> [u32; 4] {
+    let reach = (2.0 * legend.font_px()).ceil() as i64;
+    let [x0, y0, x1, y1] = legend.panel_pixels();
+    let clamp = |v: i64, size: u32| v.clamp(0, i64::from(size)) as u32;
+    [
+        clamp(x0 - reach, width),
+        clamp(y0 - reach, height),
+        clamp(x1 + reach, width),
+        clamp(y1 + reach, height),
+    ]
+}
+
+/// The pixels `[x0, y0, x1, y1)` of the image that drawing `legend` changes
+/// within `window` (`[x0, y0, x1, y1)` too), found on a black and a white
+/// canvas of the window's size; `None` when it changes none there.
+fn changed_pixels(legend: &Legend, window: [u32; 4]) -> Option<[u32; 4]> {
+    let [wx0, wy0, wx1, wy1] = window;
+    if wx1 <= wx0 || wy1 <= wy0 {
+        return None;
+    }
+    let moved = legend.translated(-i64::from(wx0), -i64::from(wy0));
+    let mut found: Option<[u32; 4]> = None;
+    for shade in [0u8, 255] {
+        let mut canvas = RgbaImage::from_pixel(wx1 - wx0, wy1 - wy0, image::Rgba([shade; 4]));
+        moved.draw(&mut canvas);
+        for (x, y, pixel) in canvas.enumerate_pixels() {
+            if pixel.0 != [shade; 4] {
+                let (x, y) = (x + wx0, y + wy0);
+                let f = found.get_or_insert([x, y, x + 1, y + 1]);
+                *f = [f[0].min(x), f[1].min(y), f[2].max(x + 1), f[3].max(y + 1)];
+            }
+        }
+    }
+    found
+}
+
+/// `changed` grown by a margin of two pixels, inside the `width` x `height`
+/// image (empty when nothing changes).
+fn with_margin(changed: Option<[u32; 4]>, width: u32, height: u32) -> [u32; 4] {
+    let [x0, y0, x1, y1] = changed.unwrap_or([0, 0, 0, 0]);
+    let margin = 2;
+    [
+        x0.saturating_sub(margin),
+        y0.saturating_sub(margin),
+        (x1 + margin).min(width),
+        (y1 + margin).min(height),
+    ]
+}
+
+/// Whether `found` touches an edge of `window` that is not an edge of the
+/// image `whole`: the legend may reach beyond the window there.
+fn reaches_inner_edge(found: [u32; 4], window: [u32; 4], whole: [u32; 4]) -> bool {
+    (found[0] == window[0] && window[0] > whole[0])
+        || (found[1] == window[1] && window[1] > whole[1])
+        || (found[2] == window[2] && window[2] < whole[2])
+        || (found[3] == window[3] && window[3] < whole[3])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,6 +207,51 @@ mod tests {
             }
         }
         assert!(changed > 1000, "{changed} pixels changed");
+    }
+
+    #[test]
+    fn the_search_near_the_panel_finds_what_the_whole_image_search_finds() {
+        let cases = [
+            ("strain energy density", [-3.0, 7.5], 640, 360),
+            ("value", [0.0, 1.0], 320, 240),
+            ("von Mises stress", [0.0, 2.5e6], 1280, 720),
+            ("J", [0.93, 1.07], 1920, 1080),
+            ("", [-1.0e-4, 3.0e-4], 800, 800),
+            ("speed", [0.0, 12.0], 3840, 2160),
+        ];
+        for (label, range, width, height) in cases {
+            let legend = Legend::new(label, range, width, height).unwrap();
+            let image = [0, 0, width, height];
+            let whole = changed_pixels(&legend, image);
+            assert!(whole.is_some(), "{label}: the legend changes pixels");
+            // The search near the panel finds it all, without the fallback.
+            let near = near_window(&legend, width, height);
+            let found = changed_pixels(&legend, near);
+            assert_eq!(found, whole, "{label} at {width}x{height}");
+            assert!(!reaches_inner_edge(found.unwrap(), near, image));
+            let area = |[x0, y0, x1, y1]: [u32; 4]| u64::from(x1 - x0) * u64::from(y1 - y0);
+            assert!(5 * area(near) < area(image), "{label}: {near:?}");
+            let stamp = LegendStamp::new(legend, width, height);
+            assert_eq!(
+                stamp.footprint(),
+                with_margin(whole, width, height),
+                "{label} at {width}x{height}"
+            );
+        }
+    }
+
+    #[test]
+    fn only_a_window_edge_inside_the_image_sends_the_search_to_the_whole_image() {
+        let whole = [0, 0, 100, 50];
+        let window = [60, 10, 100, 40];
+        // Inside the window, or on its right edge, which is the image's.
+        assert!(!reaches_inner_edge([61, 11, 100, 39], window, whole));
+        // On its left, top or bottom edge, which are inside the image.
+        assert!(reaches_inner_edge([60, 11, 99, 39], window, whole));
+        assert!(reaches_inner_edge([61, 10, 99, 39], window, whole));
+        assert!(reaches_inner_edge([61, 11, 99, 40], window, whole));
+        // A window at the image's corner has no inner edge there.
+        assert!(!reaches_inner_edge([0, 0, 10, 10], [0, 0, 20, 20], whole));
     }
 
     #[test]

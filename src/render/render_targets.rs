@@ -66,11 +66,15 @@ impl RenderTargets {
             .create_view(&Default::default())
         };
         let msaa_view = (samples > 1).then(|| attachment("multisampled colour", COLOR_FORMAT));
+        // The 2D backdrop's resolved target is also sampled by every tile
+        // drawn over it (`body_tile`).
         let resolved = texture(
             "colour",
             COLOR_FORMAT,
             1,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let resolved_view = resolved.create_view(&Default::default());
         let depth_view = depth.then(|| attachment("depth", DEPTH_FORMAT));

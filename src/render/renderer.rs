@@ -208,7 +208,8 @@ impl PreparedRenderer {
         };
         let (image, tiles) = if renderer.mesh.dimension == 2 {
             let image = renderer.draw_backdrop()?;
-            let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &image)?;
+            let drawn = &renderer.whole_image.as_ref().expect("just drawn").targets;
+            let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &drawn.resolved)?;
             let triangles = renderer.mesh.triangles.len();
             let topology = BodyTopology::new(&renderer.mesh);
             let body = Body {
