@@ -223,7 +223,9 @@ impl PreparedRenderer {
             (image, FrameTiles::Scene(SceneTiles::new(renderer.size())))
         };
         // Frames are drawn in tiles: the 2D backdrop's whole-image targets
-        // are not needed again unless a reference image is asked for.
+        // are not needed again unless a reference image is asked for (and
+        // then made anew). The 2D tiles' bind group keeps the backdrop's
+        // texture alive, so nothing draws over it.
         renderer.whole_image = None;
         let mut base = image.clone();
         renderer.look.draw_overlay(&mut base);
