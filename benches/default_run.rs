@@ -12,6 +12,11 @@
 //! also print `--profile`'s cores busy while their frames were drawn,
 //! encoded and written after the simulation (the process's CPU time over the
 //! wall time of that stretch; the median over the runs).
+//!
+//! One more variant runs the APNG with Mesa's shader cache off
+//! (`MESA_SHADER_CACHE_DISABLE=true`): what the first run on a new machine
+//! costs, when llvmpipe compiles every shader (it keeps them in
+//! `~/.cache/mesa_shader_cache` for the runs after).
 
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -23,23 +28,32 @@ fn main() {
         .unwrap_or(7)
         .max(1);
     let out = tempfile::tempdir().expect("a temporary folder");
-    let variants: [(&str, &[&str]); 4] = [
-        ("--no-render", &["--no-render"]),
-        ("--video apng", &["--video", "apng"]),
-        ("--video none (PNG frames only)", &["--video", "none"]),
-        ("default videos", &[]),
+    // Each variant: its name, its flags, and whether Mesa's shader cache is off.
+    let variants: [(&str, &[&str], bool); 5] = [
+        ("--no-render", &["--no-render"], false),
+        ("--video apng", &["--video", "apng"], false),
+        (
+            "--video none (PNG frames only)",
+            &["--video", "none"],
+            false,
+        ),
+        ("default videos", &[], false),
+        ("--video apng, no shader cache", &["--video", "apng"], true),
     ];
     let mut times: Vec<Vec<Duration>> = vec![Vec::new(); variants.len()];
     let mut busy: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
     for _ in 0..runs {
-        for (index, (_, flags)) in variants.iter().enumerate() {
-            let start = Instant::now();
-            let output = Command::new(env!("CARGO_BIN_EXE_elasto"))
+        for (index, (_, flags, no_shader_cache)) in variants.iter().enumerate() {
+            let mut command = Command::new(env!("CARGO_BIN_EXE_elasto"));
+            command
                 .args(["run", "--quiet", "--force", "--profile", "--out"])
                 .arg(out.path().join(format!("variant-{index}")))
-                .args(*flags)
-                .output()
-                .expect("elasto runs");
+                .args(*flags);
+            if *no_shader_cache {
+                command.env("MESA_SHADER_CACHE_DISABLE", "true");
+            }
+            let start = Instant::now();
+            let output = command.output().expect("elasto runs");
             times[index].push(start.elapsed());
             assert!(output.status.success(), "elasto run {flags:?} failed");
             let profile = String::from_utf8_lossy(&output.stdout);
@@ -54,7 +68,7 @@ fn main() {
         "{:<32} {:>8} {:>14} {:>20}",
         "run", "wall s", "/ --no-render", "cores busy rendering"
     );
-    for (((name, _), seconds), busy) in variants.iter().zip(&medians).zip(&mut busy) {
+    for (((name, _, _), seconds), busy) in variants.iter().zip(&medians).zip(&mut busy) {
         let busy = if busy.is_empty() {
             "-".to_owned()
         } else {

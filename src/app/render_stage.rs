@@ -12,8 +12,9 @@
 //!
 //! The renderer's device, pipelines and buffers need no frame: they are made
 //! on a thread of their own from the moment the stage is made
-//! ([`Renderer::prepare`]). For a deferred run a throwaway frame is drawn
-//! with them too ([`PreparedRenderer::warmed_up`]), so that while the
+//! ([`Renderer::prepare`]). For a deferred run the run's first frame (the
+//! initial state, there before the first step) is then drawn with them and
+//! thrown away ([`PreparedRenderer::warmed_up`]), so that while the
 //! simulation runs, a core it does not use builds them and llvmpipe
 //! compiles their shaders (about 0.2 s for the default scene), and the
 //! first image follows the last step without that wait.
@@ -26,6 +27,7 @@ use crate::render::{
     FrameCost, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
     RenderSettings, Renderer, SequenceWriter,
 };
+use std::sync::mpsc::{self, Sender};
 use std::thread::JoinHandle;
 
 /// The renderer's side of a run.
@@ -36,6 +38,9 @@ pub struct RenderStage {
     frame_count: usize,
     /// The renderer being prepared, until the first frame is drawn.
     preparing: Option<JoinHandle<Result<PreparedRenderer, RenderError>>>,
+    /// Where a deferred run's first frame goes to warm the renderer up,
+    /// until it is sent.
+    warm_up_frame: Option<Sender<RenderFrame>>,
     pending: Pending,
 }
 
@@ -61,17 +66,24 @@ impl RenderStage {
         } else {
             Pending::Streaming(None)
         };
-        // A streamed run draws its first frame at once: a throwaway frame
-        // first would only add to it.
-        let warm_up = matches!(pending, Pending::Deferred(_));
+        // A streamed run draws its first frame at once: drawing it once
+        // more beforehand would only add to it.
+        let (warm_up_frame, first_frame) = match pending {
+            Pending::Deferred(_) => {
+                let (sender, receiver) = mpsc::channel();
+                (Some(sender), Some(receiver))
+            }
+            Pending::Streaming(_) => (None, None),
+        };
         let preparing = {
             let (settings, mesh) = (settings.clone(), mesh.clone());
             std::thread::spawn(move || {
-                let prepared = Renderer::prepare(&settings, &mesh);
-                if warm_up {
-                    prepared.and_then(PreparedRenderer::warmed_up)
-                } else {
-                    prepared
+                let prepared = Renderer::prepare(&settings, &mesh)?;
+                // No first frame: the run ended before it, and the renderer
+                // is not needed warm.
+                match first_frame.and_then(|frames| frames.recv().ok()) {
+                    Some(first) => prepared.warmed_up(&first),
+                    None => Ok(prepared),
                 }
             })
         };
@@ -81,6 +93,7 @@ impl RenderStage {
             outputs,
             frame_count,
             preparing: Some(preparing),
+            warm_up_frame,
             pending,
         }
     }
@@ -107,7 +120,14 @@ impl RenderStage {
     /// Takes the next frame of the run.
     pub fn add(&mut self, frame: RenderFrame) -> Result<(), RenderError> {
         match &mut self.pending {
-            Pending::Deferred(frames) => frames.push(frame),
+            Pending::Deferred(frames) => {
+                if let Some(warm_up) = self.warm_up_frame.take() {
+                    // The thread may be gone (it failed): the run hears of
+                    // it when it asks for the renderer.
+                    let _ = warm_up.send(frame.clone());
+                }
+                frames.push(frame);
+            }
             Pending::Streaming(writer) => {
                 let writer = match writer {
                     Some(writer) => writer,
@@ -146,6 +166,8 @@ impl RenderStage {
         progress_mode: ProgressMode,
         written: &mut dyn FnMut(Vec<FrameCost>),
     ) -> Result<(), RenderError> {
+        // A run without frames never sent one: the warm-up must not wait.
+        drop(self.warm_up_frame.take());
         match self.pending {
             Pending::Streaming(Some(writer)) => {
                 written(writer.finish_with_costs()?);

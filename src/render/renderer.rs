@@ -136,40 +136,36 @@ impl PreparedRenderer {
         &self.settings
     }
 
-    /// Draws one throwaway frame through the run's own pipelines, so that a
-    /// software rasteriser compiles its shaders now rather than when the
-    /// first real frame is drawn (llvmpipe compiles each pipeline's shader
-    /// variants at its first draw: about 0.2 s for a 2D run, the backdrop's
-    /// pass and the tile's). The frame puts the mesh's vertices on a small
-    /// lattice; nothing of it is kept.
-    pub fn warmed_up(self) -> Result<Self, RenderError> {
-        let vertex_count = self
-            .mesh
-            .triangles
-            .iter()
-            .flatten()
-            .chain(self.mesh.edges.iter().flatten())
-            .max()
-            .map_or(1, |&v| v as usize + 1);
-        let depth = if self.mesh.dimension == 3 { 1.0 } else { 0.0 };
-        let throwaway = RenderFrame {
-            positions: (0..vertex_count)
-                .map(|i| [(i % 7) as f32, (i % 5) as f32, (i % 3) as f32 * depth])
-                .collect(),
-            element_values: vec![0.0; self.mesh.element_count],
-        };
-        // The legend is drawn on the CPU: the throwaway frame goes without.
+    /// Draws the run's first frame, twice and thrown away, through the
+    /// run's own pipelines, so that a software rasteriser compiles its
+    /// shaders now rather than when the first real frame is drawn: llvmpipe
+    /// compiles each pipeline's shader variants at its first draw (about
+    /// 0.2 s for a 2D run, the backdrop's pass and the tile's), and a second
+    /// variant of the 2D tile's vertex shaders at the second draw. `first`
+    /// is drawn framed on its own (with the automatic camera, the body fills
+    /// the image), which costs what one real frame costs, a few
+    /// milliseconds; nothing of it is kept. A frame this renderer cannot
+    /// draw is left for the run to report: the renderer comes back as it
+    /// was, not warmed up.
+    pub fn warmed_up(self, first: &RenderFrame) -> Result<Self, RenderError> {
+        // The legend is drawn on the CPU: the throwaway frames go without.
         let settings = self.settings.clone();
         let throwaway_settings = RenderSettings {
             draw_legend: false,
             ..settings.clone()
         };
+        let throwaway = std::slice::from_ref(first);
+        if FrameShape::of_run(&throwaway_settings, &self.mesh, throwaway).is_err() {
+            return Ok(self);
+        }
         let mut renderer = PreparedRenderer {
             settings: throwaway_settings,
             ..self
         }
-        .with_frames(std::slice::from_ref(&throwaway))?;
-        renderer.render_timed(&throwaway)?;
+        .with_frames(throwaway)?;
+        for _ in 0..2 {
+            renderer.render_timed(first)?;
+        }
         Ok(PreparedRenderer {
             gpu: renderer.gpu,
             settings,

@@ -5,8 +5,7 @@
 use crate::render_support::{assert_pixel, plain_settings, renderer_or_skip, square, srgb8};
 use elasto::compare::{CompareThresholds, compare_images};
 use elasto::render::{
-    Camera, Colouring, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderSettings,
-    Renderer, viridis,
+    Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings, Renderer, viridis,
 };
 
 /// 40 pixels per scene unit, origin at the image centre (80, 60).
@@ -394,6 +393,37 @@ fn mismatched_frames_are_typed_errors() {
     assert!(error.to_string().contains("vertex 9"), "{error}");
 }
 
+/// A deferred run warms its renderer up with its first frame before the
+/// run is known to be drawable. A first frame the renderer cannot draw (here
+/// with a vertex missing) is left for the run to report: the warm-up hands
+/// the renderer back unharmed, and it then draws the run's frames as a
+/// fresh one does.
+#[test]
+fn a_warm_up_with_a_frame_it_cannot_draw_leaves_the_renderer_as_it_was() {
+    let (mesh, frame) = square(-0.5, -0.5, 1.0);
+    let settings = RenderSettings {
+        camera: pixel_camera(),
+        ..plain_settings(160, 120)
+    };
+    let frames = [frame];
+    let Some(mut fresh) = renderer_or_skip(&settings, &mesh, &frames) else {
+        return;
+    };
+    let mut missing_a_vertex = frames[0].clone();
+    missing_a_vertex.positions.pop();
+    let prepared = Renderer::prepare(&settings, &mesh)
+        .unwrap()
+        .warmed_up(&missing_a_vertex)
+        .expect("a frame it cannot draw is no warm-up error");
+    let mut warmed = prepared.with_frames(&frames).unwrap();
+    assert!(warmed.render(&frames[0]).unwrap() == fresh.render(&frames[0]).unwrap());
+    // The run's own check still says what is wrong with such a frame.
+    let Err(RenderError::InvalidInput(message)) = warmed.render(&missing_a_vertex) else {
+        panic!("a frame with a vertex missing must be refused");
+    };
+    assert!(message.contains("3 vertex positions"), "{message}");
+}
+
 /// The settings of the tile tests: 480x270, a scalar field on a fixed
 /// range, edges, the legend, and a ground at `ground_height`.
 fn tile_test_settings(camera: Camera, ground_height: f32) -> RenderSettings {
@@ -415,9 +445,10 @@ fn tile_test_settings(camera: Camera, ground_height: f32) -> RenderSettings {
 /// The renderers a tile test compares (`None` when it may skip for lack of
 /// an adapter): one drawing the frames' tiles; one for whole images, which
 /// grow a renderer's tile target to the image, where a tile may round a
-/// coverage differently; and one prepared on its own and warmed up with a
-/// throwaway frame before it was given the run, which must draw the same
-/// bytes as the first.
+/// coverage differently; and one prepared on its own and warmed up with
+/// the run's first frame (framed on its own, as a deferred run's warm-up
+/// draws it) before it was given the run, which must draw the same bytes as
+/// the first.
 fn tile_test_renderers(
     settings: &RenderSettings,
     mesh: &RenderMesh,
@@ -426,7 +457,7 @@ fn tile_test_renderers(
     let renderer = renderer_or_skip(settings, mesh, frames)?;
     let whole_renderer = Renderer::new(settings, mesh, frames).unwrap();
     let prepared = Renderer::prepare(settings, mesh)
-        .and_then(PreparedRenderer::warmed_up)
+        .and_then(|prepared| prepared.warmed_up(&frames[0]))
         .and_then(|prepared| prepared.with_frames(frames))
         .unwrap();
     Some([renderer, whole_renderer, prepared])
