@@ -15,9 +15,9 @@
 //! and the reference paths that draw a frame whole (see `Renderer`): the
 //! renderer makes them when one of those needs them and drops them once
 //! the image is read back (the 2D backdrop's resolved texture lives on in
-//! the tiles' bind group, which samples it for every frame). At 1280x720 with 4x MSAA and depth they would
-//! be about 37 MB (colour and depth samples, the resolved image, its
-//! readback buffer).
+//! the tiles' bind group, which samples it for every frame). At 1280x720
+//! with 4x MSAA and depth they would be about 37 MB (colour and depth
+//! samples, the resolved image, its readback buffer).
 
 use super::RenderError;
 use super::gpu::{Gpu, check_scope};

@@ -156,14 +156,14 @@ impl PreparedRenderer {
             ..settings.clone()
         };
         let throwaway = std::slice::from_ref(first);
-        if FrameShape::of_run(&throwaway_settings, &self.mesh, throwaway).is_err() {
+        let Ok(shape) = FrameShape::of_run(&throwaway_settings, &self.mesh, throwaway) else {
             return Ok(self);
-        }
+        };
         let mut renderer = PreparedRenderer {
             settings: throwaway_settings,
             ..self
         }
-        .with_frames(throwaway)?;
+        .complete(shape, throwaway)?;
         for _ in 0..2 {
             renderer.render_timed(first)?;
         }
