@@ -30,6 +30,14 @@ pub enum AppError {
         /// Why.
         source: SimError,
     },
+    /// An environment variable elasto reads has a value it cannot take.
+    #[error("`{variable}`: {reason}")]
+    Environment {
+        /// The variable and its value, e.g. `ELASTO_RENDER_DEVICES=3`.
+        variable: String,
+        /// What is wrong.
+        reason: String,
+    },
     /// The requested video format is not available here (e.g. MP4 without ffmpeg).
     #[error("--video {choice} is not available")]
     Video {
@@ -109,6 +117,7 @@ impl AppError {
             AppError::Setup { source, .. } if !source.is_bad_input() => 1,
             AppError::Scene(_)
             | AppError::Flag { .. }
+            | AppError::Environment { .. }
             | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
             AppError::Compare(CompareError::Write { .. }) => 1,

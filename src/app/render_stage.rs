@@ -22,13 +22,13 @@
 //! The stage hands out, in frame order, the cost of every frame completely
 //! written ([`FrameCost`]), for `stats.csv` and `--profile`.
 
+use super::process_clock::{Span, Stopwatch};
 use super::progress::{Progress, ProgressMode};
 use crate::render::{
-    FrameCost, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
-    RenderSettings, Renderer, SequenceWriter,
+    FrameCost, PreparedRenderers, PreparingRenderers, RenderError, RenderFrame, RenderMesh,
+    RenderOutputs, RenderSettings, SequenceWriter,
 };
 use std::sync::mpsc::{self, Sender};
-use std::thread::JoinHandle;
 
 /// The renderer's side of a run.
 pub struct RenderStage {
@@ -36,8 +36,8 @@ pub struct RenderStage {
     mesh: RenderMesh,
     outputs: RenderOutputs,
     frame_count: usize,
-    /// The renderer being prepared, until the first frame is drawn.
-    preparing: Option<JoinHandle<Result<PreparedRenderer, RenderError>>>,
+    /// The renderers being prepared, until the first frame is drawn.
+    preparing: Option<PreparingRenderers>,
     /// Where a deferred run's first frame goes to warm the renderer up,
     /// until it is sent.
     warm_up_frame: Option<Sender<RenderFrame>>,
@@ -75,18 +75,9 @@ impl RenderStage {
             }
             Pending::Streaming(_) => (None, None),
         };
-        let preparing = {
-            let (settings, mesh) = (settings.clone(), mesh.clone());
-            std::thread::spawn(move || {
-                let prepared = Renderer::prepare(&settings, &mesh)?;
-                // No first frame: the run ended before it, and the renderer
-                // is not needed warm.
-                match first_frame.and_then(|frames| frames.recv().ok()) {
-                    Some(first) => prepared.warmed_up(&first),
-                    None => Ok(prepared),
-                }
-            })
-        };
+        // Without a first frame (the run ended before it) the renderers
+        // are not needed warm.
+        let preparing = PreparingRenderers::start(&settings, &mesh, first_frame);
         Self {
             settings,
             mesh,
@@ -98,17 +89,16 @@ impl RenderStage {
         }
     }
 
-    /// The renderer prepared on its thread (waiting for it if need be).
+    /// The renderers prepared on their thread (waiting for the first if
+    /// need be).
     fn prepared(
-        preparing: &mut Option<JoinHandle<Result<PreparedRenderer, RenderError>>>,
+        preparing: &mut Option<PreparingRenderers>,
         settings: &RenderSettings,
         mesh: &RenderMesh,
-    ) -> Result<PreparedRenderer, RenderError> {
+    ) -> Result<PreparedRenderers, RenderError> {
         match preparing.take() {
-            Some(thread) => thread
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
-            None => Renderer::prepare(settings, mesh),
+            Some(preparing) => preparing.wait(),
+            None => PreparedRenderers::prepare(settings, mesh),
         }
     }
 
@@ -160,18 +150,19 @@ impl RenderStage {
     /// Completes the frames and videos: waits for the encoders of a streamed
     /// run, or renders a deferred one with its own progress. `written` gets
     /// the costs of the frames [`RenderStage::take_costs`] did not hand out,
-    /// in frame order, as they are written.
+    /// in frame order, as they are written. For a deferred run, gives the
+    /// stretch from its first frame sent to be drawn to its last written.
     pub fn finish(
         mut self,
         progress_mode: ProgressMode,
         written: &mut dyn FnMut(Vec<FrameCost>),
-    ) -> Result<(), RenderError> {
+    ) -> Result<Option<Span>, RenderError> {
         // A run without frames never sent one: the warm-up must not wait.
         drop(self.warm_up_frame.take());
         match self.pending {
             Pending::Streaming(Some(writer)) => {
                 written(writer.finish_with_costs()?);
-                Ok(())
+                Ok(None)
             }
             Pending::Streaming(None) => Err(RenderError::InvalidInput(
                 "the run ended before its first frame".into(),
@@ -185,6 +176,7 @@ impl RenderStage {
                     &frames,
                     &self.outputs,
                 )?;
+                let frames_watch = Stopwatch::start();
                 let mut reported = 0;
                 let mut report = |written_frames: usize| {
                     while reported < written_frames {
@@ -198,9 +190,10 @@ impl RenderStage {
                     written(writer.take_costs());
                 }
                 written(writer.finish_with_costs()?);
+                let frames_span = frames_watch.span();
                 report(frames.len());
                 progress.finish();
-                Ok(())
+                Ok(Some(frames_span))
             }
         }
     }

@@ -17,7 +17,7 @@ use super::process_clock::{Stopwatch, cores};
 use super::progress::{Progress, ProgressMode};
 use super::render_stage::RenderStage;
 use super::run_health::RunHealth;
-use super::run_profile::RunProfile;
+use super::run_profile::{RunProfile, RunSpans};
 use super::{AppError, build_simulation, scene_overrides, shortcut_overrides};
 use crate::energy::ElementField;
 use crate::output::{
@@ -25,8 +25,8 @@ use crate::output::{
     SurfaceSeriesWriter,
 };
 use crate::render::{
-    FrameCost, RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support,
-    video_file_name,
+    FrameCost, RENDER_DEVICES_VARIABLE, RenderFrame, RenderMesh, RenderOutputs, VideoFormat,
+    check_video_support, device_limit, video_file_name,
 };
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
 use crate::sim::FrameStats;
@@ -44,6 +44,7 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
     let videos = if args.no_render {
         Vec::new()
     } else {
+        check_render_devices()?;
         videos(args.video)?
     };
     let out = args
@@ -85,6 +86,21 @@ struct Plan {
     progress: ProgressMode,
     /// `--profile`: when the run started, and its CPU time then.
     profile: Option<Stopwatch>,
+}
+
+/// `ELASTO_RENDER_DEVICES`, when set, is 1 or 2.
+pub(super) fn check_render_devices() -> Result<(), AppError> {
+    device_limit()
+        .map(|_| ())
+        .map_err(|reason| AppError::Environment {
+            variable: format!(
+                "{RENDER_DEVICES_VARIABLE}={}",
+                std::env::var_os(RENDER_DEVICES_VARIABLE)
+                    .unwrap_or_default()
+                    .to_string_lossy()
+            ),
+            reason,
+        })
 }
 
 /// The videos to write; a format this machine cannot write is an error
@@ -260,7 +276,7 @@ fn run_scene<const D: usize>(
     progress.finish();
 
     // 4. Complete the frames and the videos.
-    let mut rendering = None;
+    let (mut rendering, mut frames_span) = (None, None);
     let rendered = simulated.and_then(|()| match render.take() {
         Some(render) => {
             let deferred = !render.is_streaming();
@@ -272,7 +288,13 @@ fn run_scene<const D: usize>(
                 }
             });
             rendering = deferred.then(|| watch.span());
-            finished.map_err(AppError::Render).and(written)
+            match finished {
+                Ok(frames) => {
+                    frames_span = frames;
+                    written
+                }
+                Err(error) => Err(AppError::Render(error)),
+            }
         }
         None => Ok(()),
     });
@@ -286,7 +308,12 @@ fn run_scene<const D: usize>(
         return Err(error);
     }
     if let (Some(start), Some(profile)) = (plan.profile, &log.profile) {
-        print!("{}", profile.table(start.span(), rendering, cores()));
+        let spans = RunSpans {
+            run: start.span(),
+            rendering,
+            frames: frames_span,
+        };
+        print!("{}", profile.table(&spans, cores()));
     }
 
     if plan.progress != ProgressMode::Quiet {

@@ -10,9 +10,12 @@
 //! add up to more than the wall time: that is the work that overlapped.
 //!
 //! The run's wall time, and that of the rendering after the simulation when
-//! the frames wait for the whole run (automatic camera or colour range),
-//! come with the cores busy on average over it: the process's CPU time over
-//! the wall time (see `process_clock`), out of the machine's cores.
+//! the frames wait for the whole run (automatic camera or colour range) and
+//! of its part from the first frame sent to be drawn to the last written
+//! (after the camera is framed and the backdrop and base are drawn), come
+//! with the cores busy on average over each: the process's CPU time over
+//! the wall time (see `process_clock`), out of the machine's cores. A last
+//! row says how many frames each device drew (see `render::drawers`).
 
 use super::process_clock::Span;
 use crate::render::FrameCost;
@@ -40,6 +43,19 @@ const SIMULATION_PHASES: usize = 5;
 pub struct RunProfile {
     simulated: Vec<[Duration; SIMULATION_PHASES]>,
     rendered: Vec<[Duration; PHASES.len() - SIMULATION_PHASES]>,
+    /// Frames drawn by each device.
+    per_device: Vec<usize>,
+}
+
+/// The stretches of a run the table ends with.
+#[derive(Debug, Clone, Copy)]
+pub struct RunSpans {
+    /// The whole run.
+    pub run: Span,
+    /// The rendering after the simulation, when the frames waited for it.
+    pub rendering: Option<Span>,
+    /// Its part from the first frame sent to be drawn to the last written.
+    pub frames: Option<Span>,
 }
 
 impl RunProfile {
@@ -64,12 +80,16 @@ impl RunProfile {
             cost.png,
             cost.video,
         ]);
+        if self.per_device.len() <= cost.drawer {
+            self.per_device.resize(cost.drawer + 1, 0);
+        }
+        self.per_device[cost.drawer] += 1;
     }
 
     /// The table, ending with the run's wall time and, when the frames were
-    /// rendered after the simulation, that rendering's; each with the cores
-    /// busy over it out of `cores`.
-    pub fn table(&self, run: Span, rendering: Option<Span>, cores: usize) -> String {
+    /// rendered after the simulation, that rendering's and its frames'; each
+    /// with the cores busy over it out of `cores`.
+    pub fn table(&self, spans: &RunSpans, cores: usize) -> String {
         let mut text = String::new();
         let _ = writeln!(
             text,
@@ -98,11 +118,21 @@ impl RunProfile {
                 total.as_secs_f64()
             );
         }
-        let spans = [
-            ("wall time of the run", Some(run)),
-            ("rendering after the simulation", rendering),
+        if !self.per_device.is_empty() {
+            let counts: Vec<String> = self.per_device.iter().map(usize::to_string).collect();
+            let _ = writeln!(
+                text,
+                "{:<22} {:>8}",
+                "frames per device",
+                counts.join(" + ")
+            );
+        }
+        let rows = [
+            ("wall time of the run", Some(spans.run)),
+            ("rendering after the simulation", spans.rendering),
+            ("frames drawn, encoded and written", spans.frames),
         ];
-        for (name, span) in spans {
+        for (name, span) in rows {
             let Some(span) = span else { continue };
             let _ = write!(text, "{name:<46} {:>9.3}", span.wall.as_secs_f64());
             if let Some(busy) = span.cores_busy() {
@@ -135,6 +165,14 @@ mod tests {
         Span {
             wall: ms(wall),
             cpu: cpu.map(ms),
+        }
+    }
+
+    fn spans(run: Span, rendering: Option<Span>, frames: Option<Span>) -> RunSpans {
+        RunSpans {
+            run,
+            rendering,
+            frames,
         }
     }
 
@@ -171,9 +209,10 @@ mod tests {
                 },
                 png: ms(3),
                 video: ms(5),
+                drawer: usize::from(draw > 20),
             });
         }
-        let table = profile.table(span(1500, None), None, 2);
+        let table = profile.table(&spans(span(1500, None), None, None), 2);
         assert_eq!(row(&table, "assembly"), ["3", "2.000", "0.006"]);
         assert_eq!(row(&table, "factorisation"), ["3", "3.000", "0.009"]);
         assert_eq!(row(&table, "solve"), ["3", "1.000", "0.003"]);
@@ -183,15 +222,18 @@ mod tests {
         assert_eq!(row(&table, "draw"), ["4", "30.000", "0.100"]);
         assert_eq!(row(&table, "video encode + write"), ["4", "5.000", "0.020"]);
         assert_eq!(row(&table, "wall time of the run"), ["1.500"]);
+        // Frames drawn by each device: 10 and 20 ms on the first, 30 and 40 on the second.
+        assert_eq!(row(&table, "frames per device"), ["2", "+", "2"]);
     }
 
     #[test]
     fn a_run_without_rendering_has_no_rendering_rows() {
         let mut profile = RunProfile::default();
         profile.simulated(&PhaseTimes::default(), ms(2));
-        let table = profile.table(span(2, None), None, 2);
+        let table = profile.table(&spans(span(2, None), None, None), 2);
         assert_eq!(row(&table, "other simulation"), ["1", "2.000", "0.002"]);
         assert!(!table.contains("draw"), "{table}");
+        assert!(!table.contains("device"), "{table}");
     }
 
     #[test]
@@ -199,7 +241,11 @@ mod tests {
         let mut profile = RunProfile::default();
         profile.simulated(&PhaseTimes::default(), ms(2));
         let rendering = span(200, Some(370));
-        let table = profile.table(span(400, Some(620)), Some(rendering), 2);
+        let frames = span(180, Some(354));
+        let table = profile.table(
+            &spans(span(400, Some(620)), Some(rendering), Some(frames)),
+            2,
+        );
         assert_eq!(
             row(&table, "wall time of the run"),
             ["0.400", "1.55", "of", "2", "cores", "busy"]
@@ -208,8 +254,12 @@ mod tests {
             row(&table, "rendering after the simulation"),
             ["0.200", "1.85", "of", "2", "cores", "busy"]
         );
+        assert_eq!(
+            row(&table, "frames drawn, encoded and written"),
+            ["0.180", "1.97", "of", "2", "cores", "busy"]
+        );
         // Without a CPU clock, the wall time alone.
-        let table = profile.table(span(400, None), None, 2);
+        let table = profile.table(&spans(span(400, None), None, None), 2);
         assert_eq!(row(&table, "wall time of the run"), ["0.400"]);
         assert!(!table.contains("rendering after"), "{table}");
     }

@@ -41,7 +41,8 @@ use super::frame_image::{FrameImage, PixelRect, push_rgb};
 use super::image_file::png_error;
 use super::partial_file::PartialFile;
 use image::RgbaImage;
-use std::io::{BufWriter, Write};
+use rayon::prelude::*;
+use std::io::Write;
 use std::path::Path;
 use zlib_rs::adler32::{adler32, adler32_combine};
 use zlib_rs::{Deflate, DeflateFlush, compress_bound};
@@ -94,34 +95,69 @@ pub(crate) struct CompressedRows {
     row_len: usize,
 }
 
+/// Rows per piece of a base compressed on its own thread.
+const ROWS_PER_PIECE: usize = 32;
+
 impl CompressedRows {
-    /// Filters and compresses every row of `image`.
+    /// Filters and compresses every row of `image`. Each row is compressed
+    /// from an empty history, so pieces of rows are compressed in parallel
+    /// and joined: the same bytes whatever the number of threads.
     pub fn new(image: &RgbaImage) -> Result<Self, String> {
-        let mut deflate = Deflate::new(BASE_LEVEL, false, 15);
-        let mut rgb = Vec::new();
+        let width = image.width() as usize;
         let height = image.height() as usize;
-        let row_len = 1 + image.width() as usize * PIXEL_BYTES;
-        let mut rows = CompressedRows {
+        let row_len = 1 + width * PIXEL_BYTES;
+        let pieces: Vec<Result<CompressedRows, String>> = image
+            .as_raw()
+            .par_chunks((width * 4 * ROWS_PER_PIECE).max(1))
+            .map(|rows| Self::of_rows(rows, width, row_len))
+            .collect();
+        let mut whole = CompressedRows {
             filtered: Vec::with_capacity(height * row_len),
             deflated: Vec::new(),
             offsets: Vec::with_capacity(height + 1),
             adlers: Vec::with_capacity(height),
             row_len,
         };
+        whole.offsets.push(0);
+        for piece in pieces {
+            let piece = piece?;
+            let start = whole.deflated.len();
+            whole.filtered.extend_from_slice(&piece.filtered);
+            whole.deflated.extend_from_slice(&piece.deflated);
+            whole
+                .offsets
+                .extend(piece.offsets[1..].iter().map(|&o| start + o));
+            whole.adlers.extend_from_slice(&piece.adlers);
+        }
+        Ok(whole)
+    }
+
+    /// The rows of RGBA pixels `rows`, `width` pixels each.
+    fn of_rows(rows: &[u8], width: usize, row_len: usize) -> Result<Self, String> {
+        let mut deflate = Deflate::new(BASE_LEVEL, false, 15);
+        let mut rgb = Vec::new();
+        let count = rows.len() / (width * 4).max(1);
+        let mut piece = CompressedRows {
+            filtered: Vec::with_capacity(count * row_len),
+            deflated: Vec::new(),
+            offsets: Vec::with_capacity(count + 1),
+            adlers: Vec::with_capacity(count),
+            row_len,
+        };
         let mut output = Vec::new();
-        rows.offsets.push(0);
-        for row in image.as_raw().chunks_exact(image.width() as usize * 4) {
+        piece.offsets.push(0);
+        for row in rows.chunks_exact(width * 4) {
             rgb.clear();
             push_rgb(row, &mut rgb);
-            let start = rows.filtered.len();
-            push_sub_filtered(&rgb, &mut rows.filtered);
-            let filtered = &rows.filtered[start..];
-            rows.adlers.push(adler32(1, filtered));
+            let start = piece.filtered.len();
+            push_sub_filtered(&rgb, &mut piece.filtered);
+            let filtered = &piece.filtered[start..];
+            piece.adlers.push(adler32(1, filtered));
             let compressed = deflate_segment(&mut deflate, filtered, &mut output)?;
-            rows.deflated.extend_from_slice(compressed);
-            rows.offsets.push(rows.deflated.len());
+            piece.deflated.extend_from_slice(compressed);
+            piece.offsets.push(piece.deflated.len());
         }
-        Ok(rows)
+        Ok(piece)
     }
 
     /// Row `y` filtered.
@@ -143,18 +179,35 @@ pub(crate) struct FramePngWriter {
     /// The compressor's output, kept at its largest size.
     deflated: Vec<u8>,
     idat: Vec<u8>,
+    /// The whole file, encoded before it is written.
+    file: Vec<u8>,
     deflate: Option<Deflate>,
 }
 
 impl FramePngWriter {
-    /// Writes `frame` to `path`: under a hidden temporary name first,
-    /// renamed once complete.
+    /// Writes `frame` to `path`: encoded in memory, then written under a
+    /// hidden temporary name, renamed once complete.
     pub fn write(&mut self, path: &Path, frame: &FrameImage) -> Result<(), RenderError> {
-        let (width, height) = frame.dimensions();
-        let encode_error = |e: png::EncodingError| png_error(path, e);
         // Dropped on an error, the partial file removes itself.
         let partial = PartialFile::new(path)?;
-        let file = BufWriter::with_capacity(1 << 18, partial.create()?);
+        let mut file = std::mem::take(&mut self.file);
+        file.clear();
+        let encoded = self.encode(path, frame, &mut file);
+        let written = encoded.and_then(|()| partial.write_whole(&file));
+        self.file = file;
+        written?;
+        partial.publish()
+    }
+
+    /// Appends the PNG file of `frame` (to be written at `path`) to `file`.
+    fn encode(
+        &mut self,
+        path: &Path,
+        frame: &FrameImage,
+        file: &mut Vec<u8>,
+    ) -> Result<(), RenderError> {
+        let (width, height) = frame.dimensions();
+        let encode_error = |e: png::EncodingError| png_error(path, e);
         let mut writer = png_encoder(file, width, height)
             .write_header()
             .map_err(encode_error)?;
@@ -184,8 +237,7 @@ impl FramePngWriter {
                 writer.write_image_data(&self.rgb).map_err(encode_error)?;
             }
         }
-        writer.finish().map_err(encode_error)?;
-        partial.publish()
+        writer.finish().map_err(encode_error)
     }
 
     /// The zlib stream of a frame over a base whose rows are `rows`, which
@@ -450,5 +502,21 @@ mod tests {
         .unwrap();
         assert_eq!(inflated, pieces.concat());
         assert_eq!(adler, adler32(1, &pieces.concat()));
+    }
+
+    #[test]
+    fn a_base_compressed_in_pieces_is_the_base_compressed_whole() {
+        // 3.5 pieces of rows, and a piece of a few rows.
+        for height in [7 * ROWS_PER_PIECE as u32 / 2, 5] {
+            let image = noise(37, height, 3);
+            let pieces = CompressedRows::new(&image).unwrap();
+            let row_len = 1 + 37 * PIXEL_BYTES;
+            let whole = CompressedRows::of_rows(image.as_raw(), 37, row_len).unwrap();
+            assert_eq!(pieces.filtered, whole.filtered);
+            assert_eq!(pieces.deflated, whole.deflated);
+            assert_eq!(pieces.offsets, whole.offsets);
+            assert_eq!(pieces.adlers, whole.adlers);
+            assert_eq!(pieces.offsets.len(), height as usize + 1);
+        }
     }
 }

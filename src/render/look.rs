@@ -33,6 +33,7 @@ const EDGE_SRGB: [f32; 3] = [0.08, 0.08, 0.10];
 const NAN_SRGB: [f32; 3] = [0.55, 0.55, 0.55];
 
 /// The fixed appearance of one run.
+#[derive(Clone)]
 pub(super) struct Look {
     colouring: Colouring,
     range: [f32; 2],
@@ -116,11 +117,12 @@ impl Look {
         };
         let edges = (settings.draw_edges && edge_alpha > 0.0).then_some((edge_colour, edge_width));
         let shadow_ground = settings.ground_height.filter(|_| dimension == 3);
+        let legend = legend.map(|legend| LegendStamp::new(legend, width, height));
 
         Ok(Self {
             colouring: settings.colouring,
             range,
-            legend: legend.map(|legend| LegendStamp::new(legend, width, height)),
+            legend,
             globals,
             ground_line,
             edges,

@@ -31,6 +31,8 @@ mod body_coverage;
 mod body_tile;
 mod camera;
 mod colormap;
+mod drawers;
+mod egl_gpu;
 mod export;
 mod frame_image;
 mod frame_png;
@@ -55,6 +57,9 @@ mod tile_slot;
 mod video;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
+pub use drawers::{
+    PreparedRenderers, PreparingRenderers, RENDER_DEVICES_VARIABLE, device_limit, llvmpipe_threads,
+};
 pub use export::{check_video_support, frame_file_name, write_frame_png, write_png};
 pub use frame_image::FrameImage;
 pub use gpu::{adapter_description, max_image_size};
@@ -241,6 +246,14 @@ pub enum RenderError {
     /// Mesh, frames or settings do not fit together.
     #[error("cannot render: {0}")]
     InvalidInput(String),
+    /// Drawing one frame failed.
+    #[error("frame {index}: {error}")]
+    Frame {
+        /// The frame's number in the run, from 0.
+        index: usize,
+        /// Why.
+        error: Box<RenderError>,
+    },
     /// The requested image is larger than the adapter allows.
     #[error("image size {width}x{height} exceeds the adapter's limit of {max} pixels per side")]
     ImageTooLarge {

@@ -33,6 +33,7 @@
 use super::RenderError;
 use super::image_file::{hidden_path, temporary_path};
 use std::fs::File;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus};
 use std::sync::{Mutex, MutexGuard};
@@ -182,16 +183,42 @@ impl PartialFile {
         &self.temporary
     }
 
+    /// Writes `bytes` as the whole temporary file. A spare is written over
+    /// and then cut to their length: truncating it first would free all
+    /// its blocks, and on a file system mounted with `discard` (this
+    /// project's machines' ext4) every block freed waits for the disk to
+    /// discard it, about a millisecond per frame; written over, a file
+    /// frees at most the blocks past its new end.
+    pub fn write_whole(&self, bytes: &[u8]) -> Result<(), RenderError> {
+        let io = |source| RenderError::Io {
+            path: self.path.clone(),
+            source,
+        };
+        let mut file = self.open(false)?;
+        let old_length = file.metadata().map_err(io)?.len();
+        file.write_all(bytes).map_err(io)?;
+        if old_length > bytes.len() as u64 {
+            file.set_len(bytes.len() as u64).map_err(io)?;
+        }
+        Ok(())
+    }
+
     /// Creates (or truncates) the temporary file: a spare in its folder
     /// renamed, when there is one, so that no new inode is needed.
     pub fn create(&self) -> Result<File, RenderError> {
+        self.open(true)
+    }
+
+    /// Creates the temporary file, or takes a spare in its folder, renamed
+    /// (so that no new inode is needed), truncated with `truncate`.
+    fn open(&self, truncate: bool) -> Result<File, RenderError> {
         let mut registry = registry();
         if registry.closed {
             return Err(RenderError::Interrupted);
         }
         if let Some(spare) = take_spare(&mut registry, self.temporary.parent())
             && std::fs::rename(&spare, &self.temporary).is_ok()
-            && let Ok(file) = open_existing(&self.temporary)
+            && let Ok(file) = open_existing(&self.temporary, truncate)
         {
             return Ok(file);
         }
@@ -233,11 +260,11 @@ impl Drop for PartialFile {
     }
 }
 
-/// Opens the file at `path` for writing, truncated, without creating it
-/// and without following a link.
-fn open_existing(path: &Path) -> std::io::Result<File> {
+/// Opens the file at `path` for writing, truncated with `truncate`,
+/// without creating it and without following a link.
+fn open_existing(path: &Path, truncate: bool) -> std::io::Result<File> {
     let mut options = std::fs::OpenOptions::new();
-    options.write(true).truncate(true);
+    options.write(true).truncate(truncate);
     #[cfg(unix)]
     std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NOFOLLOW);
     options.open(path)
@@ -397,5 +424,36 @@ mod tests {
         drop(spares);
         assert_eq!(names(&frames), ["frame_0000.png"]);
         assert!(!registry().spares.iter().any(|p| p.starts_with(dir.path())));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_file_written_whole_over_a_spare_takes_its_inode_and_its_own_length() {
+        use std::os::unix::fs::MetadataExt;
+        let dir = tempfile::tempdir().unwrap();
+        let spares = SpareFiles::under(dir.path());
+        for (old, new) in [
+            (&b"an earlier, longer frame"[..], &b"short"[..]),
+            (&b"tiny"[..], &b"a frame longer than the spare"[..]),
+        ] {
+            let earlier = dir.path().join("frame_0003.png");
+            std::fs::write(&earlier, old).unwrap();
+            let inode = std::fs::metadata(&earlier).unwrap().ino();
+            keep_as_spare(&earlier).unwrap();
+            let path = dir.path().join("frame_0000.png");
+            let partial = PartialFile::new(&path).unwrap();
+            partial.write_whole(new).unwrap();
+            partial.publish().unwrap();
+            assert_eq!(std::fs::read(&path).unwrap(), new, "no tail of the spare");
+            assert_eq!(std::fs::metadata(&path).unwrap().ino(), inode);
+        }
+        // Without a spare, a new file.
+        let path = dir.path().join("frame_0001.png");
+        let partial = PartialFile::new(&path).unwrap();
+        partial.write_whole(b"new").unwrap();
+        partial.publish().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        drop(spares);
+        assert_eq!(names(dir.path()), ["frame_0000.png", "frame_0001.png"]);
     }
 }

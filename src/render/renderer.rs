@@ -39,7 +39,7 @@ use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_image::{FrameBase, FrameImage, Patch, PixelRect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex};
+use super::gpu_resources::{COLOR_FORMAT, GpuResources, LineInstance, SurfaceVertex};
 use super::look::Look;
 use super::render_targets::WholeImageTargets;
 use super::scene_tile::{SceneTiles, scene_rect, shadow_rect};
@@ -93,7 +93,7 @@ struct Body {
 /// The fixed part of a run's frames, and the tiles drawn over it.
 struct Backdrop {
     /// The whole image without the body (and in 3D its shadow) and the legend.
-    image: RgbaImage,
+    image: Arc<RgbaImage>,
     /// The backdrop with the legend: every frame is a patch over it.
     base: Arc<FrameBase>,
     tiles: FrameTiles,
@@ -131,6 +131,11 @@ pub struct PreparedRenderer {
 }
 
 impl PreparedRenderer {
+    /// The device it draws on.
+    pub(super) fn gpu(&self) -> &Arc<Gpu> {
+        &self.gpu
+    }
+
     /// The settings it was prepared for.
     pub fn settings(&self) -> &RenderSettings {
         &self.settings
@@ -183,38 +188,12 @@ impl PreparedRenderer {
 
     /// The renderer for a run of `frames`, of `shape` (checked).
     fn complete(self, shape: FrameShape, frames: &[RenderFrame]) -> Result<Renderer, RenderError> {
-        let PreparedRenderer {
-            gpu,
-            settings,
-            mesh,
-            resources,
-        } = self;
-        let look = Look::new(&settings, &mesh, frames)?;
-        let mut renderer = Renderer {
-            gpu,
-            shape,
-            look,
-            resources,
-            surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
-            line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
-            colour_scratch: Vec::with_capacity(mesh.element_count),
-            backdrop: None,
-            whole_image: None,
-            settings,
-            mesh,
-        };
+        let look = Look::new(&self.settings, &self.mesh, frames)?;
+        let mut renderer = self.into_renderer(shape, look);
         let (image, tiles) = if renderer.mesh.dimension == 2 {
             let image = renderer.draw_backdrop()?;
             let drawn = &renderer.whole_image.as_ref().expect("just drawn").targets;
-            let tiles = BodyTiles::new(&renderer.gpu, &renderer.resources, &drawn.resolved)?;
-            let triangles = renderer.mesh.triangles.len();
-            let topology = BodyTopology::new(&renderer.mesh);
-            let body = Body {
-                vertices: Vec::with_capacity(3 * triangles),
-                fringes: Vec::with_capacity(topology.boundary_edges()),
-                topology,
-            };
-            (image, FrameTiles::Body { tiles, body })
+            (image, renderer.body_tiles(&drawn.resolved)?)
         } else {
             let image = renderer.draw_scene_backdrop()?;
             (image, FrameTiles::Scene(SceneTiles::new(renderer.size())))
@@ -227,12 +206,64 @@ impl PreparedRenderer {
         let mut base = image.clone();
         renderer.look.draw_overlay(&mut base);
         renderer.backdrop = Some(Backdrop {
-            image,
+            image: Arc::new(image),
             base: FrameBase::new(base),
             tiles,
         });
         Ok(renderer)
     }
+
+    /// A renderer that draws the frames of the run `fixtures` come from
+    /// (see [`Renderer::fixtures`]), on this renderer's device: the same
+    /// shape, look, backdrop and base, so the same frames to the byte. A 2D
+    /// backdrop is uploaded, not drawn again.
+    pub(super) fn complete_with(self, fixtures: RunFixtures) -> Result<Renderer, RenderError> {
+        let mut renderer = self.into_renderer(fixtures.shape, fixtures.look);
+        let tiles = if renderer.mesh.dimension == 2 {
+            let texture = upload_image(&renderer.gpu, &fixtures.image)?;
+            renderer.body_tiles(&texture)?
+        } else {
+            FrameTiles::Scene(SceneTiles::new(renderer.size()))
+        };
+        renderer.backdrop = Some(Backdrop {
+            image: fixtures.image,
+            base: fixtures.base,
+            tiles,
+        });
+        Ok(renderer)
+    }
+
+    /// A renderer with `shape` and `look`, its backdrop still to be made.
+    fn into_renderer(self, shape: FrameShape, look: Look) -> Renderer {
+        let PreparedRenderer {
+            gpu,
+            settings,
+            mesh,
+            resources,
+        } = self;
+        Renderer {
+            gpu,
+            shape,
+            look,
+            resources,
+            surface_scratch: Vec::with_capacity(mesh.triangles.len() * 3),
+            line_scratch: Vec::with_capacity(mesh.edges.len() + 1),
+            colour_scratch: Vec::with_capacity(mesh.element_count),
+            backdrop: None,
+            whole_image: None,
+            settings,
+            mesh,
+        }
+    }
+}
+
+/// What a renderer fixed for its run (see [`PreparedRenderer::complete_with`]).
+#[derive(Clone)]
+pub(super) struct RunFixtures {
+    shape: FrameShape,
+    look: Look,
+    image: Arc<RgbaImage>,
+    base: Arc<FrameBase>,
 }
 
 impl Renderer {
@@ -259,7 +290,17 @@ impl Renderer {
         settings: &RenderSettings,
         mesh: &RenderMesh,
     ) -> Result<PreparedRenderer, RenderError> {
-        let gpu = shared_gpu()?;
+        Self::prepare_on(shared_gpu()?, settings, mesh)
+    }
+
+    /// [`Renderer::prepare`] on `gpu`. A device whose context wgpu does not
+    /// make current (see `egl_gpu`) must be entered by the caller
+    /// ([`Gpu::enter`]) around this and every later call.
+    pub(super) fn prepare_on(
+        gpu: Arc<Gpu>,
+        settings: &RenderSettings,
+        mesh: &RenderMesh,
+    ) -> Result<PreparedRenderer, RenderError> {
         if settings.width > gpu.max_texture_side || settings.height > gpu.max_texture_side {
             return Err(RenderError::ImageTooLarge {
                 width: settings.width,
@@ -283,6 +324,23 @@ impl Renderer {
     #[doc(hidden)]
     pub fn holds_whole_image_targets(&self) -> bool {
         self.whole_image.is_some()
+    }
+
+    /// The device it draws on.
+    pub(super) fn gpu(&self) -> &Arc<Gpu> {
+        &self.gpu
+    }
+
+    /// What this renderer fixed for its run, for another renderer to draw
+    /// the same frames ([`PreparedRenderer::complete_with`]).
+    pub(super) fn fixtures(&self) -> RunFixtures {
+        let backdrop = self.backdrop.as_ref().expect("made with the renderer");
+        RunFixtures {
+            shape: self.shape,
+            look: self.look.clone(),
+            image: backdrop.image.clone(),
+            base: backdrop.base.clone(),
+        }
     }
 
     /// The adapter this renderer draws with (name, backend, driver, type).
@@ -321,7 +379,7 @@ impl Renderer {
         let (width, height) = self.size();
         let rect = self.draw_tile(Some(PixelRect::new(0, 0, width, height)))?;
         let backdrop = self.backdrop.as_ref().expect("made with the renderer");
-        let mut image = backdrop.image.clone();
+        let mut image = RgbaImage::clone(&backdrop.image);
         if let Some(patch) = backdrop.tiles.read_back(&self.gpu, rect)? {
             patch.paste_into(&mut image);
         }
@@ -383,7 +441,7 @@ impl Renderer {
         // Where the tile meets the legend, the legend is drawn over it.
         let patch = patch.map(|patch| match self.look.overlay_footprint() {
             Some(footprint) if footprint.intersects(&patch.rect) => {
-                let mut image = backdrop.image.clone();
+                let mut image = RgbaImage::clone(&backdrop.image);
                 patch.paste_into(&mut image);
                 self.look.draw_overlay(&mut image);
                 Patch::cut(&image, patch.rect)
@@ -451,6 +509,19 @@ impl Renderer {
             }
         }
         Ok(image)
+    }
+
+    /// The 2D tiles over the backdrop in `backdrop`, with room for the body.
+    fn body_tiles(&self, backdrop: &wgpu::Texture) -> Result<FrameTiles, RenderError> {
+        let tiles = BodyTiles::new(&self.gpu, &self.resources, backdrop)?;
+        let triangles = self.mesh.triangles.len();
+        let topology = BodyTopology::new(&self.mesh);
+        let body = Body {
+            vertices: Vec::with_capacity(3 * triangles),
+            fringes: Vec::with_capacity(topology.boundary_edges()),
+            topology,
+        };
+        Ok(FrameTiles::Body { tiles, body })
     }
 
     /// The 2D backdrop: the whole image without the body (no legend),
@@ -738,6 +809,39 @@ fn tile_inputs<'a>(
         fringes: body.fringes.len() as u32,
         body_lines: look.ground_lines()..lines.len() as u32,
     }
+}
+
+/// A texture holding `image`, for the 2D tiles to start from.
+fn upload_image(gpu: &Gpu, image: &RgbaImage) -> Result<wgpu::Texture, RenderError> {
+    let device = &gpu.device;
+    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let size = wgpu::Extent3d {
+        width: image.width(),
+        height: image.height(),
+        depth_or_array_layers: 1,
+    };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("uploaded backdrop"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: COLOR_FORMAT,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        image.as_raw(),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * image.width()),
+            rows_per_image: Some(image.height()),
+        },
+        size,
+    );
+    check_scope(validation, "uploading the backdrop")?;
+    Ok(texture)
 }
 
 /// Copies the top-left `size` pixels of `texture` into `buffer` (rows

@@ -22,14 +22,15 @@
 //! [`remove_partial_files`](super::remove_partial_files).
 
 use super::colormap::linear_to_srgb8;
-use super::export::{check_video_support, frame_file_name};
+use super::drawers::{Drawers, DrawnFrame, FrameFiles, PreparedRenderers};
+use super::export::check_video_support;
 use super::frame_image::FrameImage;
 use super::frame_png::FramePngWriter;
+use super::frame_shape::FrameShape;
 use super::partial_file::PartialFile;
 use super::video::{self, VideoSpec, VideoWriter};
 use super::{
-    FrameTimings, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
-    RenderSettings, Renderer, VideoFormat,
+    FrameTimings, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, VideoFormat,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use std::path::Path;
@@ -46,6 +47,8 @@ pub struct FrameCost {
     pub png: Duration,
     /// Encoding and writing the frame into every video, on the video threads.
     pub video: Duration,
+    /// Which device drew it: 0 the shared one, 1 the second (see `drawers`).
+    pub drawer: usize,
 }
 
 impl FrameCost {
@@ -62,9 +65,12 @@ impl FrameCost {
 
 /// Renders frames one at a time and writes them as PNG files and videos.
 pub struct SequenceWriter {
-    renderer: Renderer,
+    drawers: Drawers,
     frame_count: usize,
+    /// Frames sent to the drawers, and frames drawn and handed to the
+    /// encoders (in order).
     pushed: usize,
+    queued: usize,
     png_sender: Option<Sender<(usize, Arc<FrameImage>)>>,
     png_done: Receiver<Result<(usize, Duration), RenderError>>,
     png_workers: Vec<JoinHandle<()>>,
@@ -105,35 +111,49 @@ impl SequenceWriter {
         outputs: &RenderOutputs,
     ) -> Result<Self, RenderError> {
         check_request(settings, frame_count, known_frames, outputs)?;
-        let renderer = Renderer::new(settings, mesh, known_frames)?;
-        Self::start(renderer, frame_count, outputs)
+        // Bad frames are reported before the devices are opened.
+        FrameShape::of_run(settings, mesh, known_frames)?;
+        let prepared = PreparedRenderers::prepare(settings, mesh)?;
+        Self::create_prepared(prepared, frame_count, known_frames, outputs)
     }
 
-    /// [`SequenceWriter::create`] with a renderer prepared beforehand (see
-    /// [`Renderer::prepare`]).
+    /// [`SequenceWriter::create`] with renderers prepared beforehand (see
+    /// [`PreparedRenderers::prepare`]).
     pub fn create_prepared(
-        prepared: PreparedRenderer,
+        prepared: PreparedRenderers,
         frame_count: usize,
         known_frames: &[RenderFrame],
         outputs: &RenderOutputs,
     ) -> Result<Self, RenderError> {
-        check_request(prepared.settings(), frame_count, known_frames, outputs)?;
-        let renderer = prepared.with_frames(known_frames)?;
-        Self::start(renderer, frame_count, outputs)
-    }
-
-    /// Starts the encoders of a run drawn by `renderer`.
-    fn start(
-        renderer: Renderer,
-        frame_count: usize,
-        outputs: &RenderOutputs,
-    ) -> Result<Self, RenderError> {
+        let settings = prepared.settings().clone();
+        check_request(&settings, frame_count, known_frames, outputs)?;
         create_dir(&outputs.frames_dir)?;
         if !outputs.videos.is_empty() {
             create_dir(&outputs.video_dir)?;
         }
+        // Two software devices draw and encode about as fast as each other:
+        // each drawer writes the PNG files of its own frames, so that a
+        // frame is one thread's work from its vertices to its file.
+        let files = (prepared.devices() > 1).then(|| FrameFiles {
+            dir: outputs.frames_dir.clone(),
+            frame_count,
+        });
+        let png_workers = files.is_none();
+        let drawers = prepared.start(known_frames, files)?;
+        Self::start(drawers, png_workers, &settings, frame_count, outputs)
+    }
 
-        let (width, height) = renderer.size();
+    /// Starts the encoders of a run drawn by `drawers` with `settings`: the
+    /// videos' threads, and the PNG workers with `png_workers` (otherwise
+    /// the drawers write the PNG files).
+    fn start(
+        drawers: Drawers,
+        png_workers: bool,
+        settings: &RenderSettings,
+        frame_count: usize,
+        outputs: &RenderOutputs,
+    ) -> Result<Self, RenderError> {
+        let (width, height) = (settings.width, settings.height);
         let mut videos: Vec<VideoThread> = Vec::new();
         let (video_done_sender, video_done) = unbounded();
         let mut formats: Vec<VideoFormat> = Vec::new();
@@ -149,7 +169,7 @@ impl SequenceWriter {
                 height,
                 frame_count,
                 fps: outputs.fps,
-                background: linear_to_srgb8(renderer.settings().background),
+                background: linear_to_srgb8(settings.background),
             };
             // A failure here drops the threads started so far, which removes their files.
             let partial = PartialFile::new(&path)?;
@@ -161,23 +181,32 @@ impl SequenceWriter {
             ));
         }
 
-        let workers = std::thread::available_parallelism()
-            .map_or(2, |n| n.get())
-            .clamp(1, 4);
+        let workers = if png_workers {
+            std::thread::available_parallelism()
+                .map_or(2, |n| n.get())
+                .clamp(1, 4)
+        } else {
+            0
+        };
         let (png_sender, png_receiver) = bounded::<(usize, Arc<FrameImage>)>(2 * workers);
         let (done_sender, png_done) = unbounded();
+        let files = FrameFiles {
+            dir: outputs.frames_dir.clone(),
+            frame_count,
+        };
         let png_workers = (0..workers)
             .map(|_| {
                 let (frames, done) = (png_receiver.clone(), done_sender.clone());
-                let dir = outputs.frames_dir.clone();
-                std::thread::spawn(move || png_worker(&dir, frame_count, frames, done))
+                let files = files.clone();
+                std::thread::spawn(move || png_worker(&files, frames, done))
             })
             .collect();
 
         Ok(Self {
-            renderer,
+            drawers,
             frame_count,
             pushed: 0,
+            queued: 0,
             png_sender: Some(png_sender),
             png_done,
             png_workers,
@@ -192,15 +221,19 @@ impl SequenceWriter {
         })
     }
 
-    /// Renders the next frame and queues it for writing; waits while the
-    /// queues are full. Fails with the first error of any frame or video.
+    /// Sends the next frame to be drawn, and queues the frames drawn so far
+    /// for writing, in order; waits while the drawers or the queues are
+    /// full. Fails with the first error of any frame or video.
     pub fn push(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
-        let result = self.render_and_queue(frame);
-        self.failed |= result.is_err();
+        let result = self.draw_and_queue(frame);
+        if result.is_err() {
+            self.failed = true;
+            self.drawers.stop();
+        }
         result
     }
 
-    fn render_and_queue(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
+    fn draw_and_queue(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
         if self.failed {
             return Err(RenderError::InvalidInput(
                 "an earlier frame failed; the run cannot continue".into(),
@@ -212,9 +245,35 @@ impl SequenceWriter {
                 self.frame_count
             )));
         }
-        let (image, timings) = self.renderer.render_timed(frame)?;
-        self.costs[self.pushed].timings = timings;
-        let image = Arc::new(image);
+        if self.drawers.full() {
+            let (drawer, drawn) = self.drawers.receive();
+            self.queue(drawer, drawn)?;
+        }
+        if self.drawers.send(frame.clone()).is_err() {
+            return Err(self.drawer_error());
+        }
+        self.pushed += 1;
+        while let Some((drawer, drawn)) = self.drawers.try_receive() {
+            self.queue(drawer, drawn)?;
+        }
+        while let Ok(done) = self.png_done.try_recv() {
+            self.record(done)?;
+        }
+        Ok(())
+    }
+
+    /// Hands the next frame, drawn by `drawer`, to the video threads and
+    /// the PNG workers.
+    fn queue(
+        &mut self,
+        drawer: usize,
+        drawn: Result<DrawnFrame, RenderError>,
+    ) -> Result<(), RenderError> {
+        let drawn = drawn?;
+        let index = self.queued;
+        self.costs[index].timings = drawn.timings;
+        self.costs[index].drawer = drawer;
+        let image = Arc::new(drawn.image);
         for video in &self.videos {
             let sent = video
                 .sender
@@ -225,18 +284,42 @@ impl SequenceWriter {
                 return Err(self.stop());
             }
         }
+        self.queued += 1;
+        if let Some(png) = drawn.png {
+            // The drawer wrote the file.
+            return self.record(png.map(|time| (index, time)));
+        }
         let sent = self
             .png_sender
             .as_ref()
-            .is_some_and(|sender| sender.send((self.pushed, image)).is_ok());
+            .is_some_and(|sender| sender.send((index, image)).is_ok());
         if !sent {
             return Err(self.stop());
         }
-        self.pushed += 1;
-        while let Ok(done) = self.png_done.try_recv() {
-            self.record(done)?;
+        Ok(())
+    }
+
+    /// Queues every frame the drawers still hold, in order, up to the first
+    /// that failed.
+    fn queue_in_flight(&mut self) -> Result<(), RenderError> {
+        while self.drawers.in_flight() > 0 {
+            let (drawer, drawn) = self.drawers.receive();
+            self.queue(drawer, drawn)?;
         }
         Ok(())
+    }
+
+    /// After a drawer refused a frame: the error it stopped on.
+    fn drawer_error(&mut self) -> RenderError {
+        while self.drawers.in_flight() > 0 {
+            if let (_, Err(error)) = self.drawers.receive() {
+                return error;
+            }
+        }
+        RenderError::Gpu {
+            during: "drawing a frame",
+            message: "a drawing thread stopped without an error".into(),
+        }
     }
 
     /// How many frames, from frame 0 on without a gap, are written to disk.
@@ -279,6 +362,15 @@ impl SequenceWriter {
     /// [`SequenceWriter::take_costs`] has not.
     pub fn finish_with_costs(mut self) -> Result<Vec<FrameCost>, RenderError> {
         let mut first_error = None;
+        if !self.failed
+            && let Err(error) = self.queue_in_flight()
+        {
+            self.failed = true;
+            first_error = Some(error);
+        }
+        if self.failed {
+            self.drawers.stop();
+        }
         self.png_sender = None;
         for done in self.png_done.clone().iter() {
             if let Err(error) = self.record(done) {
@@ -296,10 +388,10 @@ impl SequenceWriter {
                 "a frame failed earlier; the videos are incomplete".into(),
             ));
         }
-        if first_error.is_none() && self.pushed != self.frame_count {
+        if first_error.is_none() && self.queued != self.frame_count {
             first_error = Some(RenderError::InvalidInput(format!(
                 "the run has {} frames but only {} were rendered",
-                self.frame_count, self.pushed
+                self.frame_count, self.queued
             )));
         }
         if let Some(error) = first_error {
@@ -335,6 +427,7 @@ impl SequenceWriter {
     /// After a queue refused a frame: the error of whichever thread stopped.
     fn stop(&mut self) -> RenderError {
         self.failed = true;
+        self.drawers.stop();
         self.png_sender = None;
         for done in self.png_done.clone().iter() {
             if let Err(error) = done {
@@ -380,8 +473,12 @@ fn check_request(
 }
 
 impl Drop for SequenceWriter {
-    /// An unfinished run: let the workers drain, then remove partial videos.
+    /// An unfinished run: the frames pushed are drawn and written (unless
+    /// a frame failed), then partial videos are removed.
     fn drop(&mut self) {
+        if self.failed || self.queue_in_flight().is_err() {
+            self.drawers.stop();
+        }
         self.png_sender = None;
         for worker in std::mem::take(&mut self.png_workers) {
             let _ = worker.join();
@@ -460,16 +557,15 @@ fn create_dir(dir: &Path) -> Result<(), RenderError> {
 }
 
 fn png_worker(
-    dir: &Path,
-    frame_count: usize,
+    files: &FrameFiles,
     frames: Receiver<(usize, Arc<FrameImage>)>,
     done: Sender<Result<(usize, Duration), RenderError>>,
 ) {
     let mut png = FramePngWriter::default();
     for (index, image) in frames {
-        let start = Instant::now();
-        let path = dir.join(frame_file_name(index, frame_count));
-        let result = png.write(&path, &image).map(|()| (index, start.elapsed()));
+        let result = files
+            .write(&mut png, index, &image)
+            .map(|time| (index, time));
         let failed = result.is_err();
         let _ = done.send(result);
         if failed {

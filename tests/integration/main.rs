@@ -49,6 +49,7 @@ mod regression_silent_bad_results;
 mod regression_stuck_ffmpeg_hung_the_run;
 mod regression_stvk_folded_inside_out;
 mod regression_writes_outside_output_folder;
+mod render_devices;
 mod render_export;
 mod render_image;
 mod render_pipeline;
