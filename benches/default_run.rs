@@ -9,17 +9,27 @@
 //! on `PATH`) and the PNG frames alone are timed too. Each variant re-runs
 //! into a folder of its own with `--force`, as a user re-renders a scene
 //! (its frames reuse the files of its previous run). The rendering runs
-//! also print `--profile`'s cores busy while their frames were drawn,
-//! encoded and written after the simulation (the process's CPU time over the
-//! wall time of that stretch; the median over the runs).
+//! also print `--profile`'s cores busy over the rendering after the
+//! simulation, and over its frames alone (from the first frame sent to be
+//! drawn to the last written, after the camera, backdrop and base are
+//! made): the process's CPU time over the wall time of that stretch, the
+//! median over the runs.
 //!
-//! One more variant runs the APNG with Mesa's shader cache off
-//! (`MESA_SHADER_CACHE_DISABLE=true`): what the first run on a new machine
-//! costs, when llvmpipe compiles every shader (it keeps them in
-//! `~/.cache/mesa_shader_cache` for the runs after).
+//! Two more variants run the APNG with one device drawing every frame
+//! (`ELASTO_RENDER_DEVICES=1`, llvmpipe with its own threads), and with
+//! Mesa's shader cache off (`MESA_SHADER_CACHE_DISABLE=true`): what the
+//! first run on a new machine costs, when llvmpipe compiles every shader
+//! (it keeps them in `~/.cache/mesa_shader_cache` for the runs after).
 
 use std::process::Command;
 use std::time::{Duration, Instant};
+
+/// A run of the bench: its name, its flags, and the environment it runs in.
+type Variant = (
+    &'static str,
+    &'static [&'static str],
+    &'static [(&'static str, &'static str)],
+);
 
 fn main() {
     let runs: usize = std::env::var("ELASTO_BENCH_RUNS")
@@ -28,66 +38,74 @@ fn main() {
         .unwrap_or(7)
         .max(1);
     let out = tempfile::tempdir().expect("a temporary folder");
-    // Each variant: its name, its flags, and whether Mesa's shader cache is off.
-    let variants: [(&str, &[&str], bool); 5] = [
-        ("--no-render", &["--no-render"], false),
-        ("--video apng", &["--video", "apng"], false),
+    let variants: [Variant; 6] = [
+        ("--no-render", &["--no-render"], &[]),
+        ("--video apng", &["--video", "apng"], &[]),
+        ("--video none (PNG frames only)", &["--video", "none"], &[]),
+        ("default videos", &[], &[]),
         (
-            "--video none (PNG frames only)",
-            &["--video", "none"],
-            false,
+            "--video apng, one device",
+            &["--video", "apng"],
+            &[("ELASTO_RENDER_DEVICES", "1")],
         ),
-        ("default videos", &[], false),
-        ("--video apng, no shader cache", &["--video", "apng"], true),
+        (
+            "--video apng, no shader cache",
+            &["--video", "apng"],
+            &[("MESA_SHADER_CACHE_DISABLE", "true")],
+        ),
+    ];
+    let rows = [
+        "rendering after the simulation",
+        "frames drawn, encoded and written",
     ];
     let mut times: Vec<Vec<Duration>> = vec![Vec::new(); variants.len()];
-    let mut busy: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
+    let mut busy: Vec<[Vec<f64>; 2]> = vec![Default::default(); variants.len()];
     for _ in 0..runs {
-        for (index, (_, flags, no_shader_cache)) in variants.iter().enumerate() {
+        for (index, (_, flags, environment)) in variants.iter().enumerate() {
             let mut command = Command::new(env!("CARGO_BIN_EXE_elasto"));
             command
                 .args(["run", "--quiet", "--force", "--profile", "--out"])
                 .arg(out.path().join(format!("variant-{index}")))
-                .args(*flags);
-            if *no_shader_cache {
-                command.env("MESA_SHADER_CACHE_DISABLE", "true");
-            }
+                .args(*flags)
+                .envs(environment.iter().copied());
             let start = Instant::now();
             let output = command.output().expect("elasto runs");
             times[index].push(start.elapsed());
             assert!(output.status.success(), "elasto run {flags:?} failed");
             let profile = String::from_utf8_lossy(&output.stdout);
-            if let Some(cores) = cores_busy_rendering(&profile) {
-                busy[index].push(cores);
+            for (row, busy) in rows.iter().zip(&mut busy[index]) {
+                if let Some(cores) = cores_busy(&profile, row) {
+                    busy.push(cores);
+                }
             }
         }
     }
     let medians: Vec<f64> = times.iter_mut().map(|t| median(t)).collect();
     println!("report-drop-2d, 300 frames at 1280x720, median of {runs} runs");
     println!(
-        "{:<32} {:>8} {:>14} {:>20}",
-        "run", "wall s", "/ --no-render", "cores busy rendering"
+        "{:<32} {:>8} {:>14} {:>21} {:>12}",
+        "run", "wall s", "/ --no-render", "cores busy rendering", "its frames"
     );
     for (((name, _, _), seconds), busy) in variants.iter().zip(&medians).zip(&mut busy) {
-        let busy = if busy.is_empty() {
-            "-".to_owned()
-        } else {
-            busy.sort_by(f64::total_cmp);
-            format!("{:.2}", busy[busy.len() / 2])
-        };
+        let [rendering, frames] = busy.each_mut().map(|busy| {
+            if busy.is_empty() {
+                "-".to_owned()
+            } else {
+                busy.sort_by(f64::total_cmp);
+                format!("{:.2}", busy[busy.len() / 2])
+            }
+        });
         println!(
-            "{name:<32} {seconds:>8.3} {:>14.2} {busy:>20}",
+            "{name:<32} {seconds:>8.3} {:>14.2} {rendering:>21} {frames:>12}",
             seconds / medians[0]
         );
     }
 }
 
-/// The cores busy on `--profile`'s row for the rendering after the
-/// simulation: `rendering after the simulation  0.212   1.86 of 2 cores busy`.
-fn cores_busy_rendering(profile: &str) -> Option<f64> {
-    let row = profile
-        .lines()
-        .find(|line| line.starts_with("rendering after the simulation"))?;
+/// The cores busy on `--profile`'s span row `name`, e.g.
+/// `rendering after the simulation  0.212   1.86 of 2 cores busy`.
+fn cores_busy(profile: &str, name: &str) -> Option<f64> {
+    let row = profile.lines().find(|line| line.starts_with(name))?;
     let words: Vec<&str> = row.split_whitespace().collect();
     let of = words.iter().position(|&w| w == "of")?;
     words.get(of.checked_sub(1)?)?.parse().ok()

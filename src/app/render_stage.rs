@@ -36,11 +36,13 @@ pub struct RenderStage {
     mesh: RenderMesh,
     outputs: RenderOutputs,
     frame_count: usize,
+    /// Where a deferred run's first frame goes to warm the renderer up,
+    /// until it is sent. Declared before `preparing`, so that it is
+    /// dropped first: the preparing thread, which dropping `preparing`
+    /// waits for, may be waiting for that frame.
+    warm_up_frame: Option<Sender<RenderFrame>>,
     /// The renderers being prepared, until the first frame is drawn.
     preparing: Option<PreparingRenderers>,
-    /// Where a deferred run's first frame goes to warm the renderer up,
-    /// until it is sent.
-    warm_up_frame: Option<Sender<RenderFrame>>,
     pending: Pending,
 }
 
@@ -196,5 +198,46 @@ impl RenderStage {
                 Ok(Some(frames_span))
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    /// A run that ends before its first frame (the simulation failed, or
+    /// the adapter check said no) drops its stage: the preparing thread,
+    /// which the drop waits for, must not wait for a frame that never
+    /// comes. With or without an adapter.
+    #[test]
+    fn a_stage_dropped_before_its_first_frame_does_not_wait_for_it() {
+        let dir = tempfile::tempdir().unwrap();
+        let outputs = RenderOutputs {
+            frames_dir: dir.path().join("frames"),
+            video_dir: dir.path().to_owned(),
+            videos: Vec::new(),
+            fps: 10.0,
+        };
+        let mesh = RenderMesh {
+            dimension: 2,
+            triangles: vec![[0, 1, 2]],
+            triangle_element: vec![0],
+            edges: vec![[0, 1], [1, 2], [0, 2]],
+            element_count: 1,
+        };
+        let (dropped, done) = mpsc::channel();
+        std::thread::spawn(move || {
+            let stage = RenderStage::new(RenderSettings::default(), mesh, outputs, 3);
+            assert!(
+                !stage.is_streaming(),
+                "the automatic camera waits for the run"
+            );
+            drop(stage);
+            let _ = dropped.send(());
+        });
+        done.recv_timeout(Duration::from_secs(120))
+            .expect("dropping the stage returned");
+        assert!(!dir.path().join("frames").exists(), "nothing written");
     }
 }
