@@ -10,14 +10,17 @@
 //! its frames are drawn after it exactly as they would have been while it
 //! ran (`tests/integration/render_streaming.rs` checks both give the same files).
 //!
-//! The renderer's device, pipelines and buffers need no frame: they are made
-//! on a thread of their own from the moment the stage is made
-//! ([`Renderer::prepare`]). For a deferred run the run's first frame (the
-//! initial state, there before the first step) is then drawn with them and
-//! thrown away ([`PreparedRenderer::warmed_up`]), so that while the
+//! The renderers' devices, pipelines and buffers need no frame: they are
+//! made on a thread of their own from the moment the stage is made
+//! ([`PreparingRenderers`]), the shared device's first and then, without a
+//! GPU, a second software device's (see `render::drawers`). For a deferred
+//! run the run's first frame (the initial state, there before the first
+//! step) is then drawn with each and thrown away
+//! ([`crate::render::PreparedRenderer::warmed_up`]), so that while the
 //! simulation runs, a core it does not use builds them and llvmpipe
 //! compiles their shaders (about 0.2 s for the default scene), and the
-//! first image follows the last step without that wait.
+//! first image follows the last step without that wait. The frames start
+//! as soon as the first device is ready; the second joins when it is.
 //!
 //! The stage hands out, in frame order, the cost of every frame completely
 //! written ([`FrameCost`]), for `stats.csv` and `--profile`.

@@ -33,21 +33,21 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// The most devices that draw a run's frames.
-pub const MAX_DEVICES: usize = 2;
+pub(super) const MAX_DEVICES: usize = 2;
 
 /// Frames per device that may be sent and not yet handed back before
 /// [`Drawers::full`] says so. Frames come back in order, so a drawer that
-/// finishes early runs ahead of the other by up to this many: with 2 the
-/// drawers stood idle about a fifth of the time waiting for a frame slowed
-/// down on the other, with 16 they rarely do (the default scene's frame
-/// loop 152 → 142 ms). A frame in flight is its positions and, once drawn,
-/// its tile: a few hundred kilobytes at most.
+/// finishes early can run ahead of one held up (by the scheduler, a file)
+/// by up to this many instead of waiting: the default scene's frames took
+/// 152 ms with 2 per device, 1.68 cores busy, and 142 ms with 16, 1.78
+/// (medians of five alternating runs). A frame in flight is its positions
+/// and, once drawn, its tile: a few hundred kilobytes at most.
 const FRAMES_PER_DEVICE: usize = 16;
 
 /// The environment variable that limits the devices to one (`1`).
 pub const RENDER_DEVICES_VARIABLE: &str = "ELASTO_RENDER_DEVICES";
 
-/// How many devices may draw a run's frames: [`MAX_DEVICES`], or 1 on a
+/// How many devices may draw a run's frames: 2, or 1 on a
 /// machine with one core or when [`RENDER_DEVICES_VARIABLE`] says so.
 /// Fails, with the reason, when that variable is set to anything but 1 or 2.
 pub fn device_limit() -> Result<usize, String> {
@@ -205,22 +205,13 @@ impl PreparedRenderers {
     ) -> Result<Drawers, RenderError> {
         let first = self.first.with_frames(frames)?;
         let mut drawers = Drawers::new(files);
-        let second = match self.second {
-            Second::None => None,
-            Second::Ready(second) => Some(Second::Ready(second)),
-            Second::Pending(pending) => Some(Second::Pending(pending)),
-        };
-        if let Some(second) = second {
-            if let Second::Pending(pending) = &second {
-                drawers.cancel_preparation = Some(pending.cancel());
-            }
-            let fixtures = first.fixtures();
+        if let Second::Pending(pending) = &self.second {
+            drawers.cancel_preparation = Some(pending.cancel());
+        }
+        if !matches!(self.second, Second::None) {
+            let (second, fixtures) = (self.second, first.fixtures());
             drawers.spawn(1, move || {
-                let prepared = match second {
-                    Second::Ready(prepared) => *prepared,
-                    Second::Pending(pending) => pending.wait()?,
-                    Second::None => return None,
-                };
+                let prepared = second.wait()?;
                 let gpu = prepared.gpu().clone();
                 let _current = gpu.enter();
                 prepared.complete_with(fixtures).ok()
@@ -228,6 +219,17 @@ impl PreparedRenderers {
         }
         drawers.spawn(0, move || Some(first));
         Ok(drawers)
+    }
+}
+
+impl Second {
+    /// The renderer, once it is prepared (if it can be).
+    fn wait(self) -> Option<PreparedRenderer> {
+        match self {
+            Second::None => None,
+            Second::Ready(prepared) => Some(*prepared),
+            Second::Pending(pending) => pending.wait(),
+        }
     }
 }
 

@@ -16,10 +16,17 @@
 //! device display, creates a context like the one wgpu creates (desktop
 //! OpenGL 3.3 core with robust access when the display offers OpenGL,
 //! OpenGL ES 3 otherwise) and gives it to wgpu with
-//! `wgpu::hal::gles::Adapter::new_external`. wgpu does not make such a
-//! context current: every call into the device must be made inside
-//! [`EglContext::enter`], which makes the context current on the calling
-//! thread for as long as its guard lives, one thread at a time.
+//! `wgpu::hal::gles::Adapter::new_external`, with the sRGB encoding of
+//! sRGB targets turned on as wgpu does for its own (without it the second
+//! device's frames came out in linear light, far darker). wgpu does not
+//! make such a context current: every call into the device must be made
+//! inside [`EglContext::enter`], which makes the context current on the
+//! calling thread for as long as its guard lives, one thread at a time. A
+//! wgpu object of this device dropped outside it is not freed (its GL
+//! calls find no context and do nothing): the drawers drop their renderers
+//! inside it, and the error paths that do not leave a few objects to the
+//! end of the process. The display and the context live as long as the
+//! process.
 
 use super::RenderError;
 use khronos_egl as egl;

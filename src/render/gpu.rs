@@ -11,6 +11,12 @@
 //! WebGL2-level downlevel limits with the adapter's own texture size limits,
 //! each clamped to what the adapter has.
 //!
+//! When that device is Mesa's llvmpipe through GL, [`second_gpu`] opens a
+//! second one with a rasteriser of its own (see `egl_gpu`), so that two
+//! frames are drawn at once (see `drawers`); it is made with the same
+//! limits and sample count, and wgpu does not make its context current:
+//! every call into it goes inside [`Gpu::enter`].
+//!
 //! [`wait`] and [`check_scope`] turn the device's waits and error scopes
 //! into [`RenderError::Gpu`] naming what the renderer was doing.
 
@@ -45,8 +51,8 @@ impl Gpu {
         self.external_context.as_ref().map(EglContext::enter)
     }
 
-    /// Whether it is Mesa's software rasteriser through GL.
-    pub fn is_llvmpipe(&self) -> bool {
+    /// Whether it is a software rasteriser through GL (Mesa's llvmpipe).
+    pub fn is_software_gl(&self) -> bool {
         self.is_software_gl
     }
 }
@@ -93,7 +99,7 @@ pub(crate) fn second_gpu() -> Result<Option<Arc<Gpu>>, RenderError> {
     if let Some(gpu) = second.as_ref() {
         return Ok(gpu.clone());
     }
-    let gpu = if shared.is_llvmpipe() {
+    let gpu = if shared.is_software_gl() {
         pollster::block_on(open_software_device())?.map(Arc::new)
     } else {
         None

@@ -17,7 +17,9 @@
 //! resolve four samples of the whole image for every frame, and the frame stays a
 //! patch over the run's base image ([`FrameImage`]) all the way to the
 //! files, so that encoding it costs what the patch costs (`frame_png`, the
-//! APNG's sub-frames in `video`).
+//! APNG's sub-frames in `video`). Without a GPU, two llvmpipe devices with a
+//! rasteriser each draw a run's frames side by side (`drawers`, `egl_gpu`),
+//! the same bytes as one.
 //!
 //! Colours: element scalars go through [`viridis`] over one range for the
 //! whole run (automatic: min/max over all frames), so colours never flicker;

@@ -1,25 +1,32 @@
 //! Writing a run frame by frame: numbered PNG frames and videos.
 //!
 //! A [`SequenceWriter`] is fed one [`RenderFrame`] at a time, as the
-//! simulation produces them or from a finished run. The calling thread
-//! renders each frame and hands the image to:
-//! - PNG workers, through a bounded queue (so memory stays flat however long
-//!   the run), which encode with fast compression (a 2D frame reuses its
-//!   base's rows compressed once, see `frame_png`) and write each frame
+//! simulation produces them or from a finished run. It sends each frame to
+//! the drawers (`drawers`: one renderer per graphics device, each on a
+//! thread of its own), takes the drawn frames back in frame order, and
+//! hands each image to:
+//! - the PNG encoding: with two devices each drawer writes the PNG file of
+//!   the frame it drew (drawing and encoding cost about the same on a
+//!   software rasteriser, so a frame is one thread's work from its vertices
+//!   to its file); with one device, PNG workers behind a bounded queue. A
+//!   frame's file is encoded with fast compression (a frame over its base
+//!   reuses the base's rows compressed once, see `frame_png`) and written
 //!   under a hidden temporary name, renamed once complete;
 //! - one thread per video format, through its own bounded queue, in frame
 //!   order.
 //!
 //! A full queue makes [`SequenceWriter::push`] wait, so neither rendering nor
 //! the simulation feeding it can run ahead of the encoders by more than a few
-//! frames. Each frame's [`FrameCost`] (draw, readback, legend, PNG, videos)
-//! is handed out by [`SequenceWriter::take_costs`] once the frame is in the
-//! PNG file and in every video, in frame order. The first error stops the run; videos are renamed to their final
-//! names only by [`SequenceWriter::finish`] after every frame and every video
-//! succeeded. A writer dropped unfinished (the simulation failed) removes its
-//! partial videos; the frames already written stay, each one complete. On
-//! SIGINT or SIGTERM the binary removes partial frames and videos through
-//! [`remove_partial_files`](super::remove_partial_files).
+//! dozen frames. Each frame's [`FrameCost`] (draw, readback, legend, PNG,
+//! videos, and which device drew it) is handed out by
+//! [`SequenceWriter::take_costs`] once the frame is in the PNG file and in
+//! every video, in frame order. The first error stops the run: no frame after
+//! it is started. Videos are renamed to their final names only by
+//! [`SequenceWriter::finish`] after every frame and every video succeeded. A
+//! writer dropped unfinished (the simulation failed) writes the frames
+//! already pushed and removes its partial videos; the frames written stay,
+//! each one complete. On SIGINT or SIGTERM the binary removes partial frames
+//! and videos through [`remove_partial_files`](super::remove_partial_files).
 
 use super::colormap::linear_to_srgb8;
 use super::drawers::{Drawers, DrawnFrame, FrameFiles, PreparedRenderers};
@@ -100,7 +107,7 @@ impl SequenceWriter {
     /// Starts writing a run of `frame_count` frames to `outputs`.
     ///
     /// `known_frames` frame the camera and the colour range (see
-    /// [`Renderer::new`]). When [`RenderSettings::needs_whole_run`] is true
+    /// [`super::Renderer::new`]). When [`RenderSettings::needs_whole_run`] is true
     /// they must be the whole run; otherwise the first frame is enough, and
     /// the rest can be pushed as they are simulated.
     pub fn create(
