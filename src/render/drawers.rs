@@ -10,7 +10,8 @@
 //! share one rasteriser, so a second device with a rasteriser of its own
 //! (`egl_gpu`) draws frames beside the first: each drawer takes the next
 //! frame from one queue as soon as it is free, and the frames are put back
-//! in order before they are encoded. Both devices are llvmpipe with the
+//! in order before they are encoded (by the PNG workers and the video
+//! threads, see `sequence`). Both devices are llvmpipe with the
 //! same shaders, and the second renderer draws over the first's backdrop
 //! and base (`PreparedRenderer::complete_with`), so a frame is the same
 //! bytes whichever device draws it (`tests/integration/render_devices.rs`).
@@ -18,25 +19,21 @@
 //! The second device is prepared after the first, and joins the drawing
 //! when it is ready: a run never waits for it.
 
-use super::export::frame_file_name;
-use super::frame_png::FramePngWriter;
 use super::gpu::second_gpu;
 use super::{FrameImage, FrameTimings, PreparedRenderer, RenderError, RenderFrame, RenderMesh};
 use super::{RenderSettings, Renderer};
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use std::collections::BTreeMap;
 use std::ffi::OsStr;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, mpsc};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
 
 /// The most devices that draw a run's frames.
 pub(super) const MAX_DEVICES: usize = 2;
 
-/// Frames per device that may be sent and not yet handed back before
-/// [`Drawers::full`] says so. Frames come back in order, so a drawer that
+/// Frames per device that may be sent and not yet handed on before
+/// [`Drawers::send`] waits. Frames come back in order, so a drawer that
 /// finishes early can run ahead of one held up (by the scheduler, a file)
 /// by up to this many instead of waiting: the default scene's frames took
 /// 152 ms with 2 per device, 1.68 cores busy, and 142 ms with 16, 1.78
@@ -196,15 +193,10 @@ impl PreparedRenderers {
 
     /// The drawers of a run of `frames` (see [`Renderer::new`]): the first
     /// renderer is completed here, the second from it on its own thread
-    /// once it is prepared. With `files`, each drawer writes the PNG file
-    /// of every frame it draws.
-    pub(super) fn start(
-        self,
-        frames: &[RenderFrame],
-        files: Option<FrameFiles>,
-    ) -> Result<Drawers, RenderError> {
+    /// once it is prepared.
+    pub(super) fn start(self, frames: &[RenderFrame]) -> Result<Drawers, RenderError> {
         let first = self.first.with_frames(frames)?;
-        let mut drawers = Drawers::new(files);
+        let mut drawers = Drawers::new();
         if let Second::Pending(pending) = &self.second {
             drawers.cancel_preparation = Some(pending.cancel());
         }
@@ -218,6 +210,9 @@ impl PreparedRenderers {
             });
         }
         drawers.spawn(0, move || Some(first));
+        // The drawers hold the senders of what they draw: once they have all
+        // finished, the frames drawn end.
+        drawers.drawn_sender = None;
         Ok(drawers)
     }
 }
@@ -360,78 +355,56 @@ impl PreparingRenderers {
     }
 }
 
-/// A frame drawn, with its PNG file's cost when the drawer writes it.
-pub(super) struct DrawnFrame {
-    pub image: FrameImage,
-    pub timings: FrameTimings,
-    /// Writing the frame's PNG file, when the drawers write them
-    /// ([`FrameFiles`]): how long it took, or why it failed.
-    pub png: Option<Result<Duration, RenderError>>,
-}
+/// A frame drawn, or why it could not be.
+pub(super) type Drawn = Result<(FrameImage, FrameTimings), RenderError>;
 
-type Drawn = Result<DrawnFrame, RenderError>;
-
-/// Where the frames' PNG files go, and how they are named.
-#[derive(Clone)]
-pub(super) struct FrameFiles {
-    pub dir: PathBuf,
-    pub frame_count: usize,
-}
-
-impl FrameFiles {
-    /// Writes frame `index` with `png`, and says how long it took.
-    pub fn write(
-        &self,
-        png: &mut FramePngWriter,
-        index: usize,
-        image: &FrameImage,
-    ) -> Result<Duration, RenderError> {
-        let start = Instant::now();
-        let path = self.dir.join(frame_file_name(index, self.frame_count));
-        png.write(&path, image).map(|()| start.elapsed())
-    }
-}
+/// A frame drawn: its index in the run, the drawer that drew it, and the
+/// frame or why it could not be drawn.
+type Numbered = (usize, usize, Drawn);
 
 /// One renderer per device, each on its own thread (see the module
-/// documentation).
+/// documentation): the side that sends frames. [`DrawnFrames`] is the side
+/// that takes them back in order.
 pub(super) struct Drawers {
     /// The queue every drawer takes its next frame from, with its index.
     frames: Option<Sender<(usize, RenderFrame)>>,
     frame_queue: Receiver<(usize, RenderFrame)>,
-    /// Each frame drawn, with its index and the drawer that drew it.
-    drawn_sender: Option<Sender<(usize, usize, Drawn)>>,
-    drawn: Receiver<(usize, usize, Drawn)>,
+    /// Where the drawers send what they drew, until they are all started.
+    drawn_sender: Option<Sender<Numbered>>,
+    /// The other ends, until [`Drawers::drawn_frames`] takes them.
+    drawn: Option<(Receiver<Numbered>, Sender<()>)>,
+    /// One slot per frame that may be in flight: taken to send a frame,
+    /// given back when the frame is handed on in order.
+    slots: Receiver<()>,
     threads: Vec<JoinHandle<()>>,
     /// Set when the run cannot complete: the drawers take no more frames.
     stopped: Arc<AtomicBool>,
     /// Tells the second device's preparation, if still under way, that it
     /// is no longer wanted: set when the drawers are dropped.
     cancel_preparation: Option<Arc<AtomicBool>>,
-    /// Where each drawer writes the PNG files of its frames, if it does.
-    files: Option<FrameFiles>,
-    /// Frames drawn ahead of the one handed back next.
-    ahead: BTreeMap<usize, (usize, Drawn)>,
-    /// Frames sent, and frames handed back (in order).
+    /// Frames sent.
     sent: usize,
-    received: usize,
 }
 
 impl Drawers {
-    fn new(files: Option<FrameFiles>) -> Self {
-        let (frames, frame_queue) = bounded(FRAMES_PER_DEVICE * MAX_DEVICES);
+    fn new() -> Self {
+        let in_flight = FRAMES_PER_DEVICE * MAX_DEVICES;
+        let (frames, frame_queue) = bounded(in_flight);
         let (drawn_sender, drawn) = unbounded();
+        let (slot_returns, slots) = bounded(in_flight);
+        for _ in 0..in_flight {
+            slot_returns.send(()).expect("the slots fit their queue");
+        }
         Drawers {
             frames: Some(frames),
             frame_queue,
             drawn_sender: Some(drawn_sender),
-            drawn,
+            drawn: Some((drawn, slot_returns)),
+            slots,
             threads: Vec::new(),
             stopped: Arc::new(AtomicBool::new(false)),
             cancel_preparation: None,
-            files,
-            ahead: BTreeMap::new(),
             sent: 0,
-            received: 0,
         }
     }
 
@@ -443,7 +416,6 @@ impl Drawers {
             .drawn_sender
             .clone()
             .expect("drawers are spawned first");
-        let files = self.files.clone();
         let stopped = self.stopped.clone();
         self.threads.push(std::thread::spawn(move || {
             let Some(mut renderer) = make() else { return };
@@ -451,33 +423,19 @@ impl Drawers {
             // Current for the thread's life: making a context current and
             // releasing it flushes and revalidates it, too much per frame.
             let _current = gpu.enter();
-            let mut png = FramePngWriter::default();
             for (index, frame) in frames {
                 if stopped.load(Ordering::Relaxed) {
                     break;
                 }
-                let rendered = renderer
+                let result = renderer
                     .render_timed(&frame)
                     .map_err(|error| RenderError::Frame {
                         index,
                         error: Box::new(error),
                     });
-                let result = rendered.map(|(image, timings)| {
-                    let png = files
-                        .as_ref()
-                        .map(|files| files.write(&mut png, index, &image));
-                    DrawnFrame {
-                        image,
-                        timings,
-                        png,
-                    }
-                });
-                let failed = match &result {
-                    Ok(drawn) => matches!(drawn.png, Some(Err(_))),
-                    Err(_) => true,
-                };
+                let failed = result.is_err();
                 if failed {
-                    // The frames after it are not drawn or written.
+                    // The frames after it are not drawn.
                     stopped.store(true, Ordering::Relaxed);
                 }
                 if drawn.send((index, drawer, result)).is_err() || failed {
@@ -488,77 +446,49 @@ impl Drawers {
         }));
     }
 
+    /// The frames drawn, in order (once; see [`DrawnFrames`]).
+    pub fn drawn_frames(&mut self) -> DrawnFrames {
+        let (drawn, slots) = self.drawn.take().expect("taken once");
+        DrawnFrames {
+            drawn,
+            ahead: BTreeMap::new(),
+            next: 0,
+            slots,
+        }
+    }
+
+    /// What [`Drawers::stop`] sets, for whoever else stops the run.
+    pub fn stop_flag(&self) -> Arc<AtomicBool> {
+        self.stopped.clone()
+    }
+
     /// Stops the drawers: they draw no frame they have not started.
     pub fn stop(&self) {
         self.stopped.store(true, Ordering::Relaxed);
     }
 
-    /// Frames sent and not yet handed back.
-    pub fn in_flight(&self) -> usize {
-        self.sent - self.received
-    }
-
-    /// Whether as many frames are in flight as may be: hand one back before
-    /// sending another.
-    pub fn full(&self) -> bool {
-        self.in_flight() >= FRAMES_PER_DEVICE * MAX_DEVICES
-    }
-
-    /// Queues the next frame for the first drawer free. Fails when every
-    /// drawer has stopped (each on an error that [`Drawers::receive`] hands
-    /// back in its frame's place).
+    /// Queues the next frame for the first drawer free, waiting while as
+    /// many frames are in flight as may be. Fails when the frames drawn are
+    /// no longer taken (the run stopped on an error).
     pub fn send(&mut self, frame: RenderFrame) -> Result<(), RenderError> {
-        // The drawers hold their own senders of drawn frames from now on:
-        // once they have all stopped, `receive` hears of it.
-        self.drawn_sender = None;
-        let sent = self
-            .frames
-            .as_ref()
-            .is_some_and(|frames| frames.send((self.sent, frame)).is_ok());
+        let sent = self.slots.recv().is_ok()
+            && self
+                .frames
+                .as_ref()
+                .is_some_and(|frames| frames.send((self.sent, frame)).is_ok());
         if !sent {
-            return Err(stopped());
+            return Err(RenderError::Gpu {
+                during: "drawing a frame",
+                message: "the frames are no longer drawn".into(),
+            });
         }
         self.sent += 1;
         Ok(())
     }
 
-    /// The next frame in order and the drawer that drew it, waiting for it
-    /// to be drawn.
-    pub fn receive(&mut self) -> (usize, Drawn) {
-        debug_assert!(self.in_flight() > 0);
-        loop {
-            if let Some(drawn) = self.ahead.remove(&self.received) {
-                self.received += 1;
-                return drawn;
-            }
-            match self.drawn.recv() {
-                Ok((index, drawer, drawn)) => {
-                    self.ahead.insert(index, (drawer, drawn));
-                }
-                Err(_) => {
-                    self.received += 1;
-                    return (0, Err(stopped()));
-                }
-            }
-        }
-    }
-
-    /// The next frame in order, if it is drawn already.
-    pub fn try_receive(&mut self) -> Option<(usize, Drawn)> {
-        while let Ok((index, drawer, drawn)) = self.drawn.try_recv() {
-            self.ahead.insert(index, (drawer, drawn));
-        }
-        let drawn = self.ahead.remove(&self.received)?;
-        self.received += 1;
-        Some(drawn)
-    }
-}
-
-/// The error of a frame no drawer is left to draw.
-fn stopped() -> RenderError {
-    RenderError::Gpu {
-        during: "drawing a frame",
-        message: "every drawing thread stopped".into(),
+    /// No more frames: the drawers draw those queued and finish.
+    pub fn close(&mut self) {
+        self.frames = None;
     }
 }
 
@@ -567,12 +497,41 @@ impl Drop for Drawers {
     /// (nothing, once stopped); each drops its renderer with its device's
     /// context current.
     fn drop(&mut self) {
-        self.frames = None;
+        self.close();
         if let Some(unwanted) = &self.cancel_preparation {
             unwanted.store(true, Ordering::Relaxed);
         }
         for thread in self.threads.drain(..) {
             let _ = thread.join();
+        }
+    }
+}
+
+/// The frames drawn, in frame order, each with the drawer that drew it;
+/// the end comes when the drawers have all finished (or stopped) and the
+/// next frame was not drawn. Each frame handed on frees a slot for another
+/// to be sent ([`Drawers::send`]).
+pub(super) struct DrawnFrames {
+    drawn: Receiver<Numbered>,
+    /// Frames drawn ahead of the one handed on next.
+    ahead: BTreeMap<usize, (usize, Drawn)>,
+    next: usize,
+    slots: Sender<()>,
+}
+
+impl Iterator for DrawnFrames {
+    type Item = Numbered;
+
+    fn next(&mut self) -> Option<Numbered> {
+        loop {
+            if let Some((drawer, drawn)) = self.ahead.remove(&self.next) {
+                let index = self.next;
+                self.next += 1;
+                let _ = self.slots.send(());
+                return Some((index, drawer, drawn));
+            }
+            let (index, drawer, drawn) = self.drawn.recv().ok()?;
+            self.ahead.insert(index, (drawer, drawn));
         }
     }
 }

@@ -5,13 +5,10 @@
 //! the drawers (`drawers`: one renderer per graphics device, each on a
 //! thread of its own), takes the drawn frames back in frame order, and
 //! hands each image to:
-//! - the PNG encoding: with two devices each drawer writes the PNG file of
-//!   the frame it drew (drawing and encoding cost about the same on a
-//!   software rasteriser, so a frame is one thread's work from its vertices
-//!   to its file); with one device, PNG workers behind a bounded queue. A
-//!   frame's file is encoded with fast compression (a frame over its base
-//!   reuses the base's rows compressed once, see `frame_png`) and written
-//!   under a hidden temporary name, renamed once complete;
+//! - PNG workers, through a bounded queue (so memory stays flat however long
+//!   the run), which encode with fast compression (a frame over its base
+//!   reuses the base's rows compressed once, see `frame_png`) and write each
+//!   frame under a hidden temporary name, renamed once complete;
 //! - one thread per video format, through its own bounded queue, in frame
 //!   order.
 //!
@@ -29,8 +26,8 @@
 //! and videos through [`remove_partial_files`](super::remove_partial_files).
 
 use super::colormap::linear_to_srgb8;
-use super::drawers::{Drawers, DrawnFrame, FrameFiles, PreparedRenderers};
-use super::export::check_video_support;
+use super::drawers::{Drawers, DrawnFrames, PreparedRenderers};
+use super::export::{check_video_support, frame_file_name};
 use super::frame_image::FrameImage;
 use super::frame_png::FramePngWriter;
 use super::frame_shape::FrameShape;
@@ -42,6 +39,7 @@ use super::{
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use std::path::Path;
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -73,12 +71,15 @@ impl FrameCost {
 /// Renders frames one at a time and writes them as PNG files and videos.
 pub struct SequenceWriter {
     drawers: Drawers,
+    /// The thread that hands the frames drawn, in order, to the encoders.
+    collector: Option<JoinHandle<()>>,
+    /// What the collector reports, frame by frame.
+    collected: Receiver<Collected>,
     frame_count: usize,
     /// Frames sent to the drawers, and frames drawn and handed to the
     /// encoders (in order).
     pushed: usize,
     queued: usize,
-    png_sender: Option<Sender<(usize, Arc<FrameImage>)>>,
     png_done: Receiver<Result<(usize, Duration), RenderError>>,
     png_workers: Vec<JoinHandle<()>>,
     videos: Vec<VideoThread>,
@@ -92,8 +93,25 @@ pub struct SequenceWriter {
     videos_written: Vec<usize>,
     /// Frames whose costs [`SequenceWriter::take_costs`] has handed out.
     costs_taken: usize,
+    /// The first error of a frame or an encoder, once reported, until
+    /// `push` or `finish` returns it.
+    error: Option<RenderError>,
     /// A frame or video failed: the run can no longer complete.
     failed: bool,
+}
+
+/// What the collector reports of each frame, in order.
+enum Collected {
+    /// The frame was drawn by `drawer` and handed to the encoders.
+    Queued {
+        index: usize,
+        drawer: usize,
+        timings: FrameTimings,
+    },
+    /// The frame could not be drawn; no later frame is handed on.
+    Failed(RenderError),
+    /// An encoder stopped taking frames (its own error says why).
+    EncoderStopped,
 }
 
 struct VideoThread {
@@ -138,24 +156,13 @@ impl SequenceWriter {
         if !outputs.videos.is_empty() {
             create_dir(&outputs.video_dir)?;
         }
-        // Two software devices draw and encode about as fast as each other:
-        // each drawer writes the PNG files of its own frames, so that a
-        // frame is one thread's work from its vertices to its file.
-        let files = (prepared.devices() > 1).then(|| FrameFiles {
-            dir: outputs.frames_dir.clone(),
-            frame_count,
-        });
-        let png_workers = files.is_none();
-        let drawers = prepared.start(known_frames, files)?;
-        Self::start(drawers, png_workers, &settings, frame_count, outputs)
+        let drawers = prepared.start(known_frames)?;
+        Self::start(drawers, &settings, frame_count, outputs)
     }
 
-    /// Starts the encoders of a run drawn by `drawers` with `settings`: the
-    /// videos' threads, and the PNG workers with `png_workers` (otherwise
-    /// the drawers write the PNG files).
+    /// Starts the encoders of a run drawn by `drawers` with `settings`.
     fn start(
-        drawers: Drawers,
-        png_workers: bool,
+        mut drawers: Drawers,
         settings: &RenderSettings,
         frame_count: usize,
         outputs: &RenderOutputs,
@@ -188,33 +195,38 @@ impl SequenceWriter {
             ));
         }
 
-        let workers = if png_workers {
-            std::thread::available_parallelism()
-                .map_or(2, |n| n.get())
-                .clamp(1, 4)
-        } else {
-            0
-        };
+        let workers = std::thread::available_parallelism()
+            .map_or(2, |n| n.get())
+            .clamp(1, 4);
         let (png_sender, png_receiver) = bounded::<(usize, Arc<FrameImage>)>(2 * workers);
         let (done_sender, png_done) = unbounded();
-        let files = FrameFiles {
-            dir: outputs.frames_dir.clone(),
-            frame_count,
-        };
         let png_workers = (0..workers)
             .map(|_| {
                 let (frames, done) = (png_receiver.clone(), done_sender.clone());
-                let files = files.clone();
-                std::thread::spawn(move || png_worker(&files, frames, done))
+                let dir = outputs.frames_dir.clone();
+                std::thread::spawn(move || png_worker(&dir, frame_count, frames, done))
             })
             .collect();
 
+        // The collector holds the only senders to the encoders: once it
+        // ends, they finish.
+        let video_senders = videos
+            .iter_mut()
+            .filter_map(|video| video.sender.take())
+            .collect();
+        let (report, collected) = unbounded();
+        let (drawn, stop) = (drawers.drawn_frames(), drawers.stop_flag());
+        let collector = std::thread::spawn(move || {
+            collect(drawn, video_senders, png_sender, report, &stop);
+        });
+
         Ok(Self {
             drawers,
+            collector: Some(collector),
+            collected,
             frame_count,
             pushed: 0,
             queued: 0,
-            png_sender: Some(png_sender),
             png_done,
             png_workers,
             videos,
@@ -224,15 +236,18 @@ impl SequenceWriter {
             costs: vec![FrameCost::default(); frame_count],
             videos_written: vec![0; frame_count],
             costs_taken: 0,
+            error: None,
             failed: false,
         })
     }
 
-    /// Sends the next frame to be drawn, and queues the frames drawn so far
-    /// for writing, in order; waits while the drawers or the queues are
-    /// full. Fails with the first error of any frame or video.
+    /// Sends the next frame to be drawn (it is drawn, encoded and written
+    /// while later frames are pushed); waits while as many frames are in
+    /// flight as may be. Fails with the first error of any frame or video
+    /// reported so far (a frame's own error may come with a later push, or
+    /// with `finish`).
     pub fn push(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
-        let result = self.draw_and_queue(frame);
+        let result = self.send(frame);
         if result.is_err() {
             self.failed = true;
             self.drawers.stop();
@@ -240,7 +255,7 @@ impl SequenceWriter {
         result
     }
 
-    fn draw_and_queue(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
+    fn send(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
         if self.failed {
             return Err(RenderError::InvalidInput(
                 "an earlier frame failed; the run cannot continue".into(),
@@ -252,80 +267,58 @@ impl SequenceWriter {
                 self.frame_count
             )));
         }
-        if self.drawers.full() {
-            let (drawer, drawn) = self.drawers.receive();
-            self.queue(drawer, drawn)?;
+        self.take_reports();
+        if let Some(error) = self.error.take() {
+            return Err(error);
         }
         if self.drawers.send(frame.clone()).is_err() {
-            return Err(self.drawer_error());
+            // The collector stopped: it said why.
+            self.join_collector();
+            self.take_reports();
+            return Err(self.error.take().unwrap_or_else(stopped_silently));
         }
         self.pushed += 1;
-        while let Some((drawer, drawn)) = self.drawers.try_receive() {
-            self.queue(drawer, drawn)?;
+        Ok(())
+    }
+
+    /// Records what the collector and the PNG workers have reported.
+    fn take_reports(&mut self) {
+        while let Ok(report) = self.collected.try_recv() {
+            match report {
+                Collected::Queued {
+                    index,
+                    drawer,
+                    timings,
+                } => {
+                    self.costs[index].timings = timings;
+                    self.costs[index].drawer = drawer;
+                    self.queued += 1;
+                }
+                Collected::Failed(error) => self.fail(error),
+                Collected::EncoderStopped => {
+                    let error = self.encoder_error();
+                    self.fail(error);
+                }
+            }
         }
         while let Ok(done) = self.png_done.try_recv() {
-            self.record(done)?;
+            self.record(done);
         }
-        Ok(())
     }
 
-    /// Hands the next frame, drawn by `drawer`, to the video threads and
-    /// the PNG workers.
-    fn queue(
-        &mut self,
-        drawer: usize,
-        drawn: Result<DrawnFrame, RenderError>,
-    ) -> Result<(), RenderError> {
-        let drawn = drawn?;
-        let index = self.queued;
-        self.costs[index].timings = drawn.timings;
-        self.costs[index].drawer = drawer;
-        let image = Arc::new(drawn.image);
-        for video in &self.videos {
-            let sent = video
-                .sender
-                .as_ref()
-                .is_some_and(|sender| sender.send(image.clone()).is_ok());
-            if !sent {
-                // That video's thread stopped on an error; finish reports it.
-                return Err(self.stop());
-            }
-        }
-        self.queued += 1;
-        if let Some(png) = drawn.png {
-            // The drawer wrote the file.
-            return self.record(png.map(|time| (index, time)));
-        }
-        let sent = self
-            .png_sender
-            .as_ref()
-            .is_some_and(|sender| sender.send((index, image)).is_ok());
-        if !sent {
-            return Err(self.stop());
-        }
-        Ok(())
+    /// Keeps the first error; the run can no longer complete.
+    fn fail(&mut self, error: RenderError) {
+        self.failed = true;
+        self.drawers.stop();
+        self.error.get_or_insert(error);
     }
 
-    /// Queues every frame the drawers still hold, in order, up to the first
-    /// that failed.
-    fn queue_in_flight(&mut self) -> Result<(), RenderError> {
-        while self.drawers.in_flight() > 0 {
-            let (drawer, drawn) = self.drawers.receive();
-            self.queue(drawer, drawn)?;
-        }
-        Ok(())
-    }
-
-    /// After a drawer refused a frame: the error it stopped on.
-    fn drawer_error(&mut self) -> RenderError {
-        while self.drawers.in_flight() > 0 {
-            if let (_, Err(error)) = self.drawers.receive() {
-                return error;
-            }
-        }
-        RenderError::Gpu {
-            during: "drawing a frame",
-            message: "a drawing thread stopped without an error".into(),
+    /// Waits for the collector to hand on every frame the drawers draw.
+    fn join_collector(&mut self) {
+        if let Some(collector) = self.collector.take()
+            && let Err(panic) = collector.join()
+        {
+            std::panic::resume_unwind(panic);
         }
     }
 
@@ -338,10 +331,8 @@ impl SequenceWriter {
     /// since the last call, in frame order, without gaps: frame `k` is
     /// handed out only after frames `0..k`.
     pub fn take_costs(&mut self) -> Vec<FrameCost> {
-        while let Ok(done) = self.png_done.try_recv() {
-            // An error is kept and reported by the next push or by finish.
-            let _ = self.record(done);
-        }
+        // An error is kept and reported by the next push or by finish.
+        self.take_reports();
         self.collect_costs()
     }
 
@@ -368,28 +359,24 @@ impl SequenceWriter {
     /// [`SequenceWriter::finish`], also handing out the costs of the frames
     /// [`SequenceWriter::take_costs`] has not.
     pub fn finish_with_costs(mut self) -> Result<Vec<FrameCost>, RenderError> {
-        let mut first_error = None;
-        if !self.failed
-            && let Err(error) = self.queue_in_flight()
-        {
-            self.failed = true;
-            first_error = Some(error);
-        }
-        if self.failed {
-            self.drawers.stop();
-        }
-        self.png_sender = None;
+        // The frames pushed are drawn and handed on; then the encoders,
+        // whose queues the collector held, finish.
+        self.drawers.close();
+        self.join_collector();
+        self.take_reports();
         for done in self.png_done.clone().iter() {
-            if let Err(error) = self.record(done) {
-                first_error.get_or_insert(error);
-            }
+            self.record(done);
         }
         join_all(std::mem::take(&mut self.png_workers));
-        for video in &mut self.videos {
-            if let Err(error) = video.join() {
-                first_error.get_or_insert(error);
-            }
+        let video_errors: Vec<RenderError> = self
+            .videos
+            .iter_mut()
+            .filter_map(|video| video.join().err())
+            .collect();
+        for error in video_errors {
+            self.fail(error);
         }
+        let mut first_error = self.error.take();
         if first_error.is_none() && self.failed {
             first_error = Some(RenderError::InvalidInput(
                 "a frame failed earlier; the videos are incomplete".into(),
@@ -412,7 +399,7 @@ impl SequenceWriter {
     }
 
     /// Marks frame `done` written, or keeps its error.
-    fn record(&mut self, done: Result<(usize, Duration), RenderError>) -> Result<(), RenderError> {
+    fn record(&mut self, done: Result<(usize, Duration), RenderError>) {
         match done {
             Ok((index, time)) => {
                 self.written[index] = true;
@@ -422,20 +409,15 @@ impl SequenceWriter {
                 {
                     self.written_in_order += 1;
                 }
-                Ok(())
             }
-            Err(error) => {
-                self.failed = true;
-                Err(error)
-            }
+            Err(error) => self.fail(error),
         }
     }
 
-    /// After a queue refused a frame: the error of whichever thread stopped.
-    fn stop(&mut self) -> RenderError {
-        self.failed = true;
-        self.drawers.stop();
-        self.png_sender = None;
+    /// After an encoder stopped taking frames: the error of whichever
+    /// stopped (the collector has stopped and dropped their queues).
+    fn encoder_error(&mut self) -> RenderError {
+        self.join_collector();
         for done in self.png_done.clone().iter() {
             if let Err(error) = done {
                 return error;
@@ -449,6 +431,50 @@ impl SequenceWriter {
         RenderError::Gpu {
             during: "writing frames",
             message: "an output thread stopped without an error".into(),
+        }
+    }
+}
+
+/// The error of a run whose collector stopped without saying why.
+fn stopped_silently() -> RenderError {
+    RenderError::Gpu {
+        during: "drawing a frame",
+        message: "the frames stopped being handed on without an error".into(),
+    }
+}
+
+/// The collector: hands the frames drawn, in order, to each video's thread
+/// and to the PNG workers, and reports each to the writer. It stops at the
+/// first frame that could not be drawn or the first encoder that stops
+/// taking frames (and stops the drawers), and when the drawers are done.
+fn collect(
+    drawn: DrawnFrames,
+    videos: Vec<Sender<Arc<FrameImage>>>,
+    png: Sender<(usize, Arc<FrameImage>)>,
+    report: Sender<Collected>,
+    stop: &AtomicBool,
+) {
+    for (index, drawer, drawn) in drawn {
+        let (image, timings) = match drawn {
+            Ok(drawn) => drawn,
+            Err(error) => {
+                stop.store(true, Ordering::Relaxed);
+                let _ = report.send(Collected::Failed(error));
+                return;
+            }
+        };
+        let _ = report.send(Collected::Queued {
+            index,
+            drawer,
+            timings,
+        });
+        let image = Arc::new(image);
+        let sent = videos.iter().all(|video| video.send(image.clone()).is_ok())
+            && png.send((index, image)).is_ok();
+        if !sent {
+            stop.store(true, Ordering::Relaxed);
+            let _ = report.send(Collected::EncoderStopped);
+            return;
         }
     }
 }
@@ -483,10 +509,11 @@ impl Drop for SequenceWriter {
     /// An unfinished run: the frames pushed are drawn and written (unless
     /// a frame failed), then partial videos are removed.
     fn drop(&mut self) {
-        if self.failed || self.queue_in_flight().is_err() {
+        if self.failed {
             self.drawers.stop();
         }
-        self.png_sender = None;
+        self.drawers.close();
+        self.join_collector();
         for worker in std::mem::take(&mut self.png_workers) {
             let _ = worker.join();
         }
@@ -564,15 +591,16 @@ fn create_dir(dir: &Path) -> Result<(), RenderError> {
 }
 
 fn png_worker(
-    files: &FrameFiles,
+    dir: &Path,
+    frame_count: usize,
     frames: Receiver<(usize, Arc<FrameImage>)>,
     done: Sender<Result<(usize, Duration), RenderError>>,
 ) {
     let mut png = FramePngWriter::default();
     for (index, image) in frames {
-        let result = files
-            .write(&mut png, index, &image)
-            .map(|time| (index, time));
+        let start = Instant::now();
+        let path = dir.join(frame_file_name(index, frame_count));
+        let result = png.write(&path, &image).map(|()| (index, start.elapsed()));
         let failed = result.is_err();
         let _ = done.send(result);
         if failed {
