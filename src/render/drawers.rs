@@ -33,12 +33,12 @@ use std::thread::JoinHandle;
 pub(super) const MAX_DEVICES: usize = 2;
 
 /// Frames per device that may be sent and not yet handed on before
-/// [`Drawers::send`] waits. Frames come back in order, so a drawer that
-/// finishes early can run ahead of one held up (by the scheduler, a file)
-/// by up to this many instead of waiting: the default scene's frames took
-/// 152 ms with 2 per device, 1.68 cores busy, and 142 ms with 16, 1.78
-/// (medians of five alternating runs). A frame in flight is its positions
-/// and, once drawn, its tile: a few hundred kilobytes at most.
+/// [`Drawers::send`] waits. Frames are handed on in order, so a drawer that
+/// finishes early can run ahead of one held up (by the scheduler, a slow
+/// frame) by up to this many instead of waiting: the default scene's
+/// frames took 184 ms with 2 per device, 1.87 cores busy, and 180 ms with
+/// 16, 1.90 (medians of nine alternating runs). A frame in flight is its
+/// positions and, once drawn, its tile: a few hundred kilobytes at most.
 const FRAMES_PER_DEVICE: usize = 16;
 
 /// The environment variable that limits the devices to one (`1`).
