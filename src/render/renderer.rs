@@ -149,7 +149,7 @@ impl PreparedRenderer {
     /// variant of the 2D tile's vertex shaders at the second draw. `first`
     /// is drawn framed on its own (with the automatic camera, the body fills
     /// the image) in an image a quarter of the run's width and height
-    /// ([`warm_up_size`]): the variants do not depend on the image's size,
+    /// (`warm_up_size`): the variants do not depend on the image's size,
     /// and the raster work is a sixteenth. A frame this renderer cannot draw
     /// is left for the run to report: the renderer comes back as it was,
     /// not warmed up.

@@ -3,8 +3,8 @@
 //! A [`SequenceWriter`] is fed one [`RenderFrame`] at a time, as the
 //! simulation produces them or from a finished run. It sends each frame to
 //! the drawers (`drawers`: one renderer per graphics device, each on a
-//! thread of its own), takes the drawn frames back in frame order, and
-//! hands each image to:
+//! thread of its own), and a collector thread takes the drawn frames back
+//! in frame order and hands each image to:
 //! - PNG workers, through a bounded queue (so memory stays flat however long
 //!   the run), which encode with fast compression (a frame over its base
 //!   reuses the base's rows compressed once, see `frame_png`) and write each
@@ -12,8 +12,9 @@
 //! - one thread per video format, through its own bounded queue, in frame
 //!   order.
 //!
-//! A full queue makes [`SequenceWriter::push`] wait, so neither rendering nor
-//! the simulation feeding it can run ahead of the encoders by more than a few
+//! A full queue makes the collector wait, and the drawers and then
+//! [`SequenceWriter::push`] with it, so neither rendering nor the
+//! simulation feeding it can run ahead of the encoders by more than a few
 //! dozen frames. Each frame's [`FrameCost`] (draw, readback, legend, PNG,
 //! videos, and which device drew it) is handed out by
 //! [`SequenceWriter::take_costs`] once the frame is in the PNG file and in
