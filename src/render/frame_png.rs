@@ -111,14 +111,7 @@ impl CompressedRows {
             .par_chunks((width * 4 * ROWS_PER_PIECE).max(1))
             .map(|rows| Self::of_rows(rows, width, row_len))
             .collect();
-        let mut whole = CompressedRows {
-            filtered: Vec::with_capacity(height * row_len),
-            deflated: Vec::new(),
-            offsets: Vec::with_capacity(height + 1),
-            adlers: Vec::with_capacity(height),
-            row_len,
-        };
-        whole.offsets.push(0);
+        let mut whole = Self::empty(height, row_len);
         for piece in pieces {
             let piece = piece?;
             let start = whole.deflated.len();
@@ -136,16 +129,8 @@ impl CompressedRows {
     fn of_rows(rows: &[u8], width: usize, row_len: usize) -> Result<Self, String> {
         let mut deflate = Deflate::new(BASE_LEVEL, false, 15);
         let mut rgb = Vec::new();
-        let count = rows.len() / (width * 4).max(1);
-        let mut piece = CompressedRows {
-            filtered: Vec::with_capacity(count * row_len),
-            deflated: Vec::new(),
-            offsets: Vec::with_capacity(count + 1),
-            adlers: Vec::with_capacity(count),
-            row_len,
-        };
+        let mut piece = Self::empty(rows.len() / (width * 4).max(1), row_len);
         let mut output = Vec::new();
-        piece.offsets.push(0);
         for row in rows.chunks_exact(width * 4) {
             rgb.clear();
             push_rgb(row, &mut rgb);
@@ -158,6 +143,19 @@ impl CompressedRows {
             piece.offsets.push(piece.deflated.len());
         }
         Ok(piece)
+    }
+
+    /// No rows yet, with room for `rows` of `row_len` filtered bytes.
+    fn empty(rows: usize, row_len: usize) -> Self {
+        let mut offsets = Vec::with_capacity(rows + 1);
+        offsets.push(0);
+        CompressedRows {
+            filtered: Vec::with_capacity(rows * row_len),
+            deflated: Vec::new(),
+            offsets,
+            adlers: Vec::with_capacity(rows),
+            row_len,
+        }
     }
 
     /// Row `y` filtered.
