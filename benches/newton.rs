@@ -92,6 +92,7 @@ fn bench<const D: usize>(cells: [usize; D]) -> usize {
             activation_distance: 0.1,
             stiffness: None,
         }),
+        contact: None,
         pinned: Vec::new(),
     };
     let settings = SimulationSettings {

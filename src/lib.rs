@@ -6,10 +6,11 @@
 //! renderer → files. The simulation core ([`math`], [`mesh`], [`material`],
 //! [`assembly`], [`energy`], [`solver`], [`integrator`], [`sim`]) knows
 //! nothing about rendering; the renderer ([`render`]) knows nothing about
-//! materials.
+//! materials. Contact geometry ([`contact`]: collision mesh, broad phase,
+//! distances, CCD) sits beside [`assembly`], below the energy terms.
 //!
 //! The modules form layers, lowest first: `math` → `mesh`, `material` →
-//! `assembly` → `energy` → `solver` → `integrator` → `sim` → `output`,
+//! `assembly`, `contact`, `mesh_io` → `energy`, `finite_volume` → `solver` → `integrator` → `sim` → `output`,
 //! `render`, `compare`, `study` → `scene` → `sweep` → `app`. No module refers to a layer above
 //! its own; `tests/integration/layering.rs` holds the order and enforces it.
 #![warn(missing_docs)]
@@ -18,6 +19,7 @@
 
 // Simulation core (its layer order is in the crate doc above).
 pub mod assembly;
+pub mod contact;
 pub mod energy;
 pub mod finite_volume;
 pub mod integrator;

@@ -250,48 +250,74 @@ impl<const D: usize> Mesh<D> {
     /// 2D, triangles in 3D. A facet is on the boundary when exactly one simplex
     /// holds it. The order is deterministic (element order, then local facet).
     pub fn boundary_facets(&self) -> Vec<[usize; D]> {
-        let mut count: HashMap<Vec<usize>, usize> = HashMap::new();
+        self.boundary().into_iter().map(|f| f.vertices).collect()
+    }
+
+    /// The boundary facets as [`Self::boundary_facets`], each with the
+    /// element that holds it: the one place where elasto finds a mesh's
+    /// boundary (the collision mesh, the renderer and the surface writer all
+    /// start from it).
+    pub fn boundary(&self) -> Vec<BoundaryFacet<D>> {
+        let facet_of = |simplex: &[usize], opposite: usize| -> [usize; D] {
+            let mut facet = [0; D];
+            let mut k = 0;
+            for (i, &v) in simplex.iter().enumerate() {
+                if i != opposite {
+                    facet[k] = v;
+                    k += 1;
+                }
+            }
+            facet
+        };
+        let sorted = |mut facet: [usize; D]| {
+            facet.sort_unstable();
+            facet
+        };
+        let mut count: HashMap<[usize; D], usize> = HashMap::new();
         for simplex in self.simplices() {
             for opposite in 0..Self::NODES {
-                let mut key: Vec<usize> = simplex
-                    .iter()
-                    .enumerate()
-                    .filter(|&(i, _)| i != opposite)
-                    .map(|(_, &v)| v)
-                    .collect();
-                key.sort_unstable();
-                *count.entry(key).or_insert(0) += 1;
+                *count
+                    .entry(sorted(facet_of(simplex, opposite)))
+                    .or_insert(0) += 1;
             }
         }
         let mut facets = Vec::new();
-        for simplex in self.simplices() {
+        for (element, simplex) in self.simplices().enumerate() {
             for opposite in 0..Self::NODES {
-                let mut facet: Vec<usize> = simplex
-                    .iter()
-                    .enumerate()
-                    .filter(|&(i, _)| i != opposite)
-                    .map(|(_, &v)| v)
-                    .collect();
-                let mut key = facet.clone();
-                key.sort_unstable();
-                if count[&key] != 1 {
+                let mut facet = facet_of(simplex, opposite);
+                if count[&sorted(facet)] != 1 {
                     continue;
                 }
                 // Orient so that (facet, opposite vertex) is negatively oriented,
                 // i.e. the facet normal points away from the opposite vertex.
-                let mut with_apex = facet.clone();
-                with_apex.push(simplex[opposite]);
-                if determinant(&edge_matrix(&self.rest_positions, &with_apex))
+                let mut with_apex = [0; 4];
+                with_apex[..D].copy_from_slice(&facet);
+                with_apex[D] = simplex[opposite];
+                if determinant(&edge_matrix(&self.rest_positions, &with_apex[..=D]))
                     * sign_for_dimension(D)
                     < 0.0
                 {
                     facet.swap(0, 1);
                 }
-                facets.push(std::array::from_fn(|i| facet[i]));
+                facets.push(BoundaryFacet {
+                    vertices: facet,
+                    element,
+                });
             }
         }
         facets
     }
+}
+
+/// A facet on a mesh's boundary (an edge in 2D, a triangle in 3D), oriented
+/// outward, and the element that holds it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BoundaryFacet<const D: usize> {
+    /// The facet's vertices, counter-clockwise seen from outside (3D) or with
+    /// the body on the left (2D).
+    pub vertices: [usize; D],
+    /// The element the facet belongs to.
+    pub element: usize,
 }
 
 /// Orientation convention: for an outward facet `f` and interior apex `p`, the

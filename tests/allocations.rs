@@ -151,6 +151,7 @@ fn step_allocations(cells: usize) -> (usize, usize) {
             activation_distance: 0.05,
             stiffness: None,
         }),
+        contact: None,
         pinned: Vec::new(),
     };
     let settings = SimulationSettings {

@@ -26,6 +26,8 @@ pub fn check(args: &CheckArgs) -> Result<String, AppError> {
 /// initial energies, by term.
 struct Setup {
     barrier: Option<f64>,
+    /// `d_hat`, the stiffness before the first step, and whether it adapts.
+    contact: Option<(f64, f64, bool, bool)>,
     energies: Vec<(&'static str, f64)>,
 }
 
@@ -38,6 +40,14 @@ fn set_up<const D: usize>(config: &SceneConfig<D>, input: SceneInput) -> Result<
     energies.push(("total", energy.total()));
     Ok(Setup {
         barrier: sim.barrier_stiffness(),
+        contact: sim.contact().map(|c| {
+            (
+                c.activation_distance(),
+                c.stiffness(),
+                c.is_adaptive(),
+                config.effects.contact.is_some_and(|c| c.self_contact),
+            )
+        }),
         energies,
     })
 }
@@ -60,8 +70,13 @@ fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
     if scene.body_count() > 1 {
         let _ = writeln!(
             s,
-            "  bodies          {} (they do not collide with each other)",
-            scene.body_count()
+            "  bodies          {}{}",
+            scene.body_count(),
+            if setup.contact.is_some() {
+                ""
+            } else {
+                " (they do not collide with each other)"
+            }
         );
     }
     for report in scene.import_reports() {
@@ -104,6 +119,19 @@ fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
             ground.height,
             ground.activation_distance,
             barrier.map_or("?".into(), |k| format!("{k}"))
+        );
+    }
+    if let Some((distance, kappa, adaptive, self_contact)) = setup.contact {
+        let rule = if adaptive {
+            "adaptive (IPC), before the first step"
+        } else {
+            "fixed"
+        };
+        let _ = writeln!(
+            s,
+            "  contact         d_hat = {distance}, stiffness kappa = {kappa:.6e} ({rule}), \
+             self-contact {}",
+            if self_contact { "on" } else { "off" }
         );
     }
     let _ = writeln!(

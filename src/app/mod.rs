@@ -134,10 +134,12 @@ fn setup_error<const D: usize>(
             "tolerance" | "max_iterations" | "step" => Some("solver"),
             "pinned" => Some("effects.pinned"),
             "a" | "kappa" => Some("effects.ground"),
+            "contact" => Some("effects.contact"),
             _ => None,
         },
         SimError::BelowGround { .. } if config.bodies.len() > 1 => Some("bodies"),
         SimError::BelowGround { .. } => Some("mesh.offset"),
+        SimError::ContactAtStart { .. } => Some("effects.contact"),
         _ => None,
     };
     match key {

@@ -238,7 +238,15 @@ fn run_scene<const D: usize>(
             };
             log.simulated(frame, &frame_stats)?;
             let steps = if frame == 0 { 0 } else { config.time.substeps };
+            let touched_before = health.first_contact_failure().is_some();
             health.add(frame, steps, &frame_stats);
+            if !touched_before && let Some(first) = health.first_contact_failure() {
+                eprintln!(
+                    "elasto: warning: surfaces touched or crossed at frame {first} \
+                     (t = {:.6} s): the contact barrier failed to keep them apart",
+                    frame_stats.time
+                );
+            }
             if meshes.is_some() || render.is_some() || surfaces.is_some() {
                 let values = sim.element_field(field);
                 if let Some(writer) = &surfaces {
@@ -249,12 +257,18 @@ fn run_scene<const D: usize>(
                     writer.write_frame(frame, sim.positions(), shown)?;
                 }
                 if let Some(writer) = &mut meshes {
+                    let forces = sim.contact_forces();
+                    let point_vectors: Vec<(&str, &[_])> = forces
+                        .iter()
+                        .map(|f| ("contact_force", f.as_slice()))
+                        .collect();
                     writer.write_frame(
                         frame,
                         frame_stats.time,
                         sim.mesh(),
                         sim.positions(),
                         &[(field_name, &values)],
+                        &point_vectors,
                     )?;
                 }
                 if let Some(render) = &mut render {

@@ -24,6 +24,9 @@ pub struct RunHealth {
     /// Smallest gap to the ground over all frames, and its frame (`None`
     /// without a ground).
     lowest_gap: Option<(f64, usize)>,
+    /// Smallest distance between surface primitives in contact range over
+    /// all frames, and its frame (`None` while no pair came within `d_hat`).
+    closest_contact: Option<(f64, usize)>,
 }
 
 impl RunHealth {
@@ -35,6 +38,7 @@ impl RunHealth {
             stalled_steps: 0,
             min_volume_ratio: None,
             lowest_gap: None,
+            closest_contact: None,
         }
     }
 
@@ -53,6 +57,17 @@ impl RunHealth {
         if let Some(gap) = stats.min_height {
             self.lowest_gap = lower(self.lowest_gap, gap);
         }
+        if let Some(distance) = stats.contact.and_then(|c| c.min_distance) {
+            self.closest_contact = lower(self.closest_contact, distance);
+        }
+    }
+
+    /// The first frame where two surface primitives touched or crossed
+    /// (distance `<= 0`: it must never happen), if one did.
+    pub fn first_contact_failure(&self) -> Option<usize> {
+        self.closest_contact
+            .filter(|(d, _)| !(*d > 0.0))
+            .map(|(_, frame)| frame)
     }
 
     /// Whether anything went wrong: a step at the iteration cap or stalled,
@@ -60,7 +75,8 @@ impl RunHealth {
     pub fn has_problems(&self) -> bool {
         let inverted = self.min_volume_ratio.is_some_and(|(j, _)| !(j > 0.0));
         let grounded = self.lowest_gap.is_some_and(|(gap, _)| !(gap > 0.0));
-        self.capped_steps > 0 || self.stalled_steps > 0 || inverted || grounded
+        let touching = self.first_contact_failure().is_some();
+        self.capped_steps > 0 || self.stalled_steps > 0 || inverted || grounded || touching
     }
 
     /// The one-line summary, e.g. `12 of 2990 steps hit the iteration cap
@@ -91,6 +107,17 @@ impl RunHealth {
                 approx(gap)
             ));
         }
+        if let Some((distance, frame)) = self.closest_contact {
+            let verdict = if distance > 0.0 {
+                ""
+            } else {
+                ": surfaces touched or crossed"
+            };
+            parts.push(format!(
+                "closest contact distance {} (frame {frame}){verdict}",
+                approx(distance)
+            ));
+        }
         parts.join(", ")
     }
 }
@@ -115,6 +142,8 @@ mod tests {
             backtracks: 0,
             unconverged_steps: unconverged,
             stalled_steps: 0,
+            reanalyses: 0,
+            contact: None,
             energy: EnergyBreakdown::default(),
             centre_of_mass: Vector::<2>::zeros(),
             min_height: gap,

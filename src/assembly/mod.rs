@@ -18,28 +18,30 @@
 //!   each Newton iteration only refills values and refactors numerically. A
 //!   non-positive pivot is a typed [`FactorisationError`], never a panic.
 //!
-//! # Terms that couple vertices sharing no element (design)
+//! # Terms that couple vertices sharing no element
 //!
-//! Contact between bodies, or friction between a vertex and an edge, adds
-//! Hessian blocks between vertices that share no element, and which pairs
-//! those are changes as the motion goes on. The pattern is designed to grow:
+//! Contact between bodies adds Hessian blocks between vertices that share
+//! no element, and which pairs those are changes as the motion goes on. The
+//! pattern grows:
 //!
 //! 1. The pattern is the union of the **mesh pairs** (fixed at setup) and a
-//!    set of **extra pairs** `(u, w)` that terms declare at the start of each
-//!    Newton iteration (the candidate pairs within their activation distance).
-//! 2. Before assembly, the declared pairs are compared with the pairs already
-//!    in the pattern. Only if some pair is new is the pattern rebuilt (column
-//!    pointers, row indices, gather lists) **and the symbolic factorisation
-//!    redone**; pairs that fall out of range stay in the pattern with zero
-//!    blocks until the next rebuild, so a contact that flickers on and off
-//!    does not trigger re-analysis every iteration.
-//! 3. Extra blocks are added through their own entry lists (pair -> stored
-//!    entries, computed at rebuild), after the element gather and in pair
-//!    order, so the sum stays deterministic.
+//!    set of **extra pairs** of vertices that terms declare at the start of
+//!    each Newton iteration (`EnergyTerm::coupled_pairs`: the corners of the
+//!    active contact stencils).
+//! 2. [`SparseHessian::include_pairs`] looks each declared pair up in the
+//!    pattern. Only if some pair is new is the pattern rebuilt (column
+//!    pointers, row indices, gather lists, the elimination order) **and the
+//!    symbolic factorisation redone** ([`SparseHessian::analyses`] counts
+//!    them); pairs that fall out of range stay in the pattern with zero
+//!    blocks, so a contact that flickers on and off costs no re-analysis, and
+//!    once the pattern holds every pair a scene needs, an iteration allocates
+//!    nothing for it.
+//! 3. Stencil blocks are added by [`SparseHessian::add_stencil`] after the
+//!    element gather, in the term's fixed stencil order, so the sum stays
+//!    deterministic.
 //!
-//! No term declares extra pairs yet (the ground barrier only touches diagonal
-//! blocks), so step 1's set is empty and the symbolic factorisation is done
-//! exactly once, in [`SparseHessian::new`].
+//! Releasing pinned vertices ([`SparseHessian::with_free_index`]) keeps the
+//! extra pairs.
 
 mod nested_dissection;
 mod sparse_cholesky;

@@ -61,16 +61,151 @@ pub struct SparseHessian<const D: usize> {
     gather_offsets: Vec<usize>,
     gather_sources: Vec<u32>,
     cholesky: SparseCholesky,
+    /// What the pattern is built from, kept to rebuild it when it grows.
+    source: PatternSource<D>,
+    /// Symbolic factorisations since construction (the first one included).
+    analyses: usize,
+}
+
+/// The mesh's connectivity and rest positions (for the elimination order),
+/// and the vertex pairs coupled beyond the mesh (contact stencils), as
+/// simulation vertex ids `(low, high)`, sorted.
+#[derive(Clone)]
+struct PatternSource<const D: usize> {
+    simplices: Vec<usize>,
+    rest_positions: Vec<Vector<D>>,
+    extra_pairs: Vec<(usize, usize)>,
+}
+
+impl<const D: usize> PatternSource<D> {
+    fn simplices(&self) -> impl ExactSizeIterator<Item = &[usize]> + '_ {
+        self.simplices.chunks_exact(D + 1)
+    }
+
+    fn element_count(&self) -> usize {
+        self.simplices.len() / (D + 1)
+    }
 }
 
 impl<const D: usize> SparseHessian<D> {
     /// The pattern of `mesh` with the vertices for which `free_index` is `Some` as unknowns.
     pub fn new(mesh: &Mesh<D>, free_index: Vec<Option<usize>>) -> Result<Self, FactorisationError> {
+        let source = PatternSource {
+            simplices: mesh.simplices().flatten().copied().collect(),
+            rest_positions: mesh.rest_positions().to_vec(),
+            extra_pairs: Vec::new(),
+        };
+        Self::build(source, free_index, 0)
+    }
+
+    /// The same pattern with other vertices free (pinned vertices released):
+    /// the mesh pairs and every extra pair declared so far are kept.
+    pub fn with_free_index(
+        &self,
+        free_index: Vec<Option<usize>>,
+    ) -> Result<Self, FactorisationError> {
+        Self::build(self.source.clone(), free_index, self.analyses)
+    }
+
+    /// Makes sure the pattern holds the blocks coupling each pair of
+    /// simulation vertices in `pairs` (pairs with a pinned vertex need
+    /// none). Only when some pair is new is the pattern rebuilt, with the
+    /// symbolic factorisation: returns whether it was. Pairs stay in the
+    /// pattern once added (a contact that flickers costs no re-analysis).
+    /// The values are cleared by a rebuild.
+    pub fn include_pairs(
+        &mut self,
+        pairs: impl IntoIterator<Item = (usize, usize)>,
+    ) -> Result<bool, FactorisationError> {
+        let mut new_pairs = Vec::new();
+        for (u, w) in pairs {
+            let (Some(fu), Some(fw)) = (self.free_index[u], self.free_index[w]) else {
+                continue;
+            };
+            if fu == fw || self.find_entry(fu.max(fw) * D, fu.min(fw) * D).is_some() {
+                continue;
+            }
+            new_pairs.push((u.min(w), u.max(w)));
+        }
+        if new_pairs.is_empty() {
+            return Ok(false);
+        }
+        let mut source = std::mem::replace(
+            &mut self.source,
+            PatternSource {
+                simplices: Vec::new(),
+                rest_positions: Vec::new(),
+                extra_pairs: Vec::new(),
+            },
+        );
+        source.extra_pairs.extend(new_pairs);
+        source.extra_pairs.sort_unstable();
+        source.extra_pairs.dedup();
+        let free_index = std::mem::take(&mut self.free_index);
+        *self = Self::build(source, free_index, self.analyses)?;
+        Ok(true)
+    }
+
+    /// Symbolic factorisations so far (1 for a pattern that never grew).
+    pub fn analyses(&self) -> usize {
+        self.analyses
+    }
+
+    /// The stored index of entry `(row, col)`, `row >= col`, if in the pattern.
+    fn find_entry(&self, row: usize, col: usize) -> Option<usize> {
+        let column = &self.row_idx[self.col_ptr[col]..self.col_ptr[col + 1]];
+        column
+            .binary_search(&row)
+            .ok()
+            .map(|k| self.col_ptr[col] + k)
+    }
+
+    /// Adds a stencil's Hessian block: `local` over the stacked coordinates
+    /// of `vertices` (vertex `a`'s axis `k` at `a D + k`); rows and columns of
+    /// pinned vertices are dropped. Every pair of free vertices of the stencil
+    /// must be in the pattern ([`Self::include_pairs`]).
+    ///
+    /// # Panics
+    /// When a pair of the stencil is not in the pattern.
+    pub fn add_stencil<const N: usize>(
+        &mut self,
+        vertices: &[usize],
+        local: &nalgebra::SMatrix<f64, N, N>,
+    ) {
+        for (b, &vb) in vertices.iter().enumerate() {
+            let Some(fb) = self.free_index[vb] else {
+                continue;
+            };
+            for (a, &va) in vertices.iter().enumerate() {
+                let Some(fa) = self.free_index[va] else {
+                    continue;
+                };
+                for k in 0..D {
+                    for i in 0..D {
+                        let (row, col) = (fa * D + i, fb * D + k);
+                        if row < col {
+                            continue;
+                        }
+                        let entry = self
+                            .find_entry(row, col)
+                            .expect("stencil pair declared with include_pairs");
+                        self.values[entry] += local[(a * D + i, b * D + k)];
+                    }
+                }
+            }
+        }
+    }
+
+    fn build(
+        source: PatternSource<D>,
+        free_index: Vec<Option<usize>>,
+        analyses: usize,
+    ) -> Result<Self, FactorisationError> {
         let free_count = free_index.iter().flatten().count();
         let dofs = free_count * D;
         // Neighbouring free vertices with a larger or equal free index, per free vertex.
         let mut neighbours: Vec<Vec<usize>> = (0..free_count).map(|f| vec![f]).collect();
-        for simplex in mesh.simplices() {
+        for simplex in source.simplices() {
             for &u in simplex {
                 for &w in simplex {
                     if let (Some(fu), Some(fw)) = (free_index[u], free_index[w])
@@ -79,6 +214,11 @@ impl<const D: usize> SparseHessian<D> {
                         neighbours[fu].push(fw);
                     }
                 }
+            }
+        }
+        for &(u, w) in &source.extra_pairs {
+            if let (Some(fu), Some(fw)) = (free_index[u], free_index[w]) {
+                neighbours[fu.min(fw)].push(fu.max(fw));
             }
         }
         for list in &mut neighbours {
@@ -118,14 +258,14 @@ impl<const D: usize> SparseHessian<D> {
         // read from the packed lower triangle (the element Hessian is symmetric).
         let size = D * (D + 1);
         let slot_len = element_slot_len(D);
-        if mesh.element_count().saturating_mul(slot_len) > u32::MAX as usize {
+        let element_count = source.element_count();
+        if element_count.saturating_mul(slot_len) > u32::MAX as usize {
             return Err(FactorisationError(format!(
-                "{} elements are more than the assembly can index",
-                mesh.element_count()
+                "{element_count} elements are more than the assembly can index"
             )));
         }
         let mut contributions: Vec<(usize, u32)> = Vec::new();
-        for (e, simplex) in mesh.simplices().enumerate() {
+        for (e, simplex) in source.simplices().enumerate() {
             for q in 0..size {
                 let Some(fb) = free_index[simplex[q / D]] else {
                     continue;
@@ -158,7 +298,7 @@ impl<const D: usize> SparseHessian<D> {
             .map(|(_, source)| source)
             .collect();
 
-        let vertex_order = free_vertex_order(mesh, &free_index, free_count);
+        let vertex_order = free_vertex_order(&source, &free_index, free_count);
         let (forward, inverse) = expand_to_unknowns::<D>(&vertex_order);
         let cholesky = SparseCholesky::analyse(
             dofs,
@@ -174,11 +314,13 @@ impl<const D: usize> SparseHessian<D> {
             row_idx,
             values,
             diagonal_block_entries,
-            element_buffer: vec![0.0; mesh.element_count() * slot_len],
-            element_gradients: vec![Vector::<D>::zeros(); mesh.element_count() * (D + 1)],
+            element_buffer: vec![0.0; element_count * slot_len],
+            element_gradients: vec![Vector::<D>::zeros(); element_count * (D + 1)],
             gather_offsets,
             gather_sources,
             cholesky,
+            source,
+            analyses: analyses + 1,
         })
     }
 
@@ -325,14 +467,21 @@ impl<const D: usize> SparseHessian<D> {
 }
 
 /// The nested-dissection order of the free vertices (by free index), from
-/// their rest positions and the graph of free vertices sharing an element.
+/// their rest positions and the graph of free vertices sharing an element
+/// (or an extra pair).
 fn free_vertex_order<const D: usize>(
-    mesh: &Mesh<D>,
+    source: &PatternSource<D>,
     free_index: &[Option<usize>],
     free_count: usize,
 ) -> Vec<usize> {
     let mut adjacent: Vec<Vec<usize>> = vec![Vec::new(); free_count];
-    for simplex in mesh.simplices() {
+    for &(u, w) in &source.extra_pairs {
+        if let (Some(fu), Some(fw)) = (free_index[u], free_index[w]) {
+            adjacent[fu].push(fw);
+            adjacent[fw].push(fu);
+        }
+    }
+    for simplex in source.simplices() {
         for &u in simplex {
             for &w in simplex {
                 if let (Some(fu), Some(fw)) = (free_index[u], free_index[w])
@@ -355,7 +504,7 @@ fn free_vertex_order<const D: usize>(
     let mut positions = vec![Vector::<D>::zeros(); free_count];
     for (v, fv) in free_index.iter().enumerate() {
         if let Some(fv) = fv {
-            positions[*fv] = mesh.rest_positions()[v];
+            positions[*fv] = source.rest_positions[v];
         }
     }
     let graph = VertexGraph {
@@ -372,6 +521,75 @@ mod tests {
     use faer::perm::PermRef;
     use faer::sparse::SymbolicSparseColMatRef;
     use faer::sparse::linalg::cholesky::SymmetricOrdering;
+
+    /// Two triangles that share no vertex: vertices 0-2 and 3-5.
+    fn two_triangles() -> Mesh<2> {
+        let x = |a: f64, b: f64| Vector::<2>::new(a, b);
+        Mesh::new(
+            vec![
+                x(0., 0.),
+                x(1., 0.),
+                x(0., 1.),
+                x(3., 0.),
+                x(4., 0.),
+                x(3., 1.),
+            ],
+            vec![vec![0, 1, 2], vec![3, 4, 5]],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_new_pair_grows_the_pattern_once_and_stencil_blocks_land_on_it() {
+        let mesh = two_triangles();
+        let free: Vec<Option<usize>> = (0..6).map(Some).collect();
+        let mut hessian = SparseHessian::new(&mesh, free).unwrap();
+        let before = hessian.non_zeros();
+        assert_eq!(hessian.analyses(), 1);
+        // Pairs within a triangle are in the pattern already.
+        assert!(!hessian.include_pairs([(0, 1), (4, 5)]).unwrap());
+        // A point-edge stencil (vertex 2 against edge 3-4) couples the two.
+        assert!(hessian.include_pairs([(2, 3), (2, 4), (3, 4)]).unwrap());
+        assert_eq!(hessian.analyses(), 2);
+        // Two new 2x2 blocks in the lower triangle.
+        assert_eq!(hessian.non_zeros(), before + 8);
+        assert!(!hessian.include_pairs([(3, 2), (4, 2)]).unwrap());
+        assert_eq!(hessian.analyses(), 2);
+        // A stencil block over (2, 3, 4): local entry (a D + i, b D + k).
+        let local = nalgebra::SMatrix::<f64, 6, 6>::from_fn(|r, c| {
+            if r == c {
+                10.0 + r as f64
+            } else {
+                1.0 / (1.0 + (r + c) as f64)
+            }
+        });
+        hessian.clear();
+        hessian.add_stencil(&[2, 3, 4], &local);
+        let dense = hessian.to_dense();
+        let vertices = [2, 3, 4];
+        for (a, &va) in vertices.iter().enumerate() {
+            for (b, &vb) in vertices.iter().enumerate() {
+                for i in 0..2 {
+                    for k in 0..2 {
+                        assert_eq!(
+                            dense[(va * 2 + i, vb * 2 + k)],
+                            local[(a * 2 + i, b * 2 + k)]
+                        );
+                    }
+                }
+            }
+        }
+        assert_eq!(dense[(0, 0)], 0.0);
+        // Releasing pins keeps the declared pairs: pin vertex 0, then free it again.
+        let pinned = hessian
+            .with_free_index(vec![None, Some(0), Some(1), Some(2), Some(3), Some(4)])
+            .unwrap();
+        assert_eq!(pinned.dofs(), 10);
+        let mut released = pinned.with_free_index((0..6).map(Some).collect()).unwrap();
+        assert_eq!(released.non_zeros(), before + 8);
+        assert!(!released.include_pairs([(2, 3)]).unwrap());
+        assert_eq!(released.analyses(), 4);
+    }
 
     #[test]
     fn packed_slots_number_the_lower_triangle_by_columns() {
@@ -404,8 +622,11 @@ mod tests {
             None,
             &hessian.row_idx,
         );
-        let (forward, inverse) =
-            expand_to_unknowns::<D>(&free_vertex_order(&mesh, &free, mesh.vertex_count()));
+        let (forward, inverse) = expand_to_unknowns::<D>(&free_vertex_order(
+            &hessian.source,
+            &free,
+            mesh.vertex_count(),
+        ));
         let dissection = analyse_symbolic(
             pattern,
             SymmetricOrdering::Custom(PermRef::new_checked(&forward, &inverse, dofs)),

@@ -163,9 +163,9 @@ impl<const D: usize> EnergyTerm<D> for BodyElasticity<D> {
             .add_gradient_and_hessian(x, scale, gradient, hessian);
     }
 
-    fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+    fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         self.parts
-            .iter()
+            .iter_mut()
             .map(|p| {
                 let v = p.vertices.clone();
                 p.elasticity.max_step(&x[v.clone()], &dx[v])

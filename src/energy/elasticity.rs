@@ -333,7 +333,7 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
     /// again, 0 if it shrinks at once.
     /// Where such a material cannot decrease its energy without flattening
     /// further, the cap is 0 and the solver reports the step as stalled.
-    fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+    fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         let cap = |e: usize| {
             let simplex = self.mesh.simplex(e);
             let dm_inv = self.mesh.rest_elements()[e].dm_inv;

@@ -24,6 +24,7 @@
 
 use super::EnergyTerm;
 use crate::assembly::SparseHessian;
+use crate::contact::{barrier, barrier_derivative, barrier_second_derivative};
 use crate::math::{Matrix, UP_AXIS, Vector};
 
 /// The fraction of the current gap a single line-search step may close at most.
@@ -79,35 +80,6 @@ impl GroundBarrier {
     }
 }
 
-/// `b(d)` for barrier width `a`.
-pub fn barrier(d: f64, a: f64) -> f64 {
-    if d <= 0.0 {
-        f64::INFINITY
-    } else if d >= a {
-        0.0
-    } else {
-        -(d - a).powi(2) * (d / a).ln()
-    }
-}
-
-/// `b'(d)`.
-pub fn barrier_derivative(d: f64, a: f64) -> f64 {
-    if d >= a || d <= 0.0 {
-        if d <= 0.0 { f64::NEG_INFINITY } else { 0.0 }
-    } else {
-        -2.0 * (d - a) * (d / a).ln() - (d - a).powi(2) / d
-    }
-}
-
-/// `b''(d)`.
-pub fn barrier_second_derivative(d: f64, a: f64) -> f64 {
-    if d >= a || d <= 0.0 {
-        if d <= 0.0 { f64::INFINITY } else { 0.0 }
-    } else {
-        -2.0 * (d / a).ln() - 4.0 * (d - a) / d + (d - a).powi(2) / (d * d)
-    }
-}
-
 impl<const D: usize> EnergyTerm<D> for GroundBarrier {
     fn name(&self) -> &'static str {
         "barrier"
@@ -144,7 +116,7 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
     /// Continuous collision check against the plane: a vertex moving down by
     /// `dx` reaches it at `t = d / -dx_up`; the step may close at most
     /// `CONTACT_STEP_FRACTION` (0.9) of any gap.
-    fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+    fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         x.iter()
             .zip(dx)
             .filter(|(_, step)| step[UP_AXIS] < 0.0)

@@ -12,8 +12,11 @@
 //! [`SparseHessian`] (projected to be positive semi-definite, so that the
 //! Newton direction is a descent direction). A term may also cap the line
 //! search ([`EnergyTerm::max_step`]): the ground barrier never lets a vertex
-//! reach the plane, a Neo-Hookean body never lets an element invert. A term
-//! may update itself once per time step ([`EnergyTerm::begin_step`]).
+//! reach the plane, a Neo-Hookean body never lets an element invert, the
+//! contact barrier never lets two surface primitives touch. A term may update
+//! itself once per time step ([`EnergyTerm::begin_step`]) and once per solver
+//! iteration ([`EnergyTerm::begin_iteration`]: the contact barrier's active
+//! set and stiffness).
 //!
 //! # Adding a term
 //!
@@ -21,10 +24,13 @@
 //! setup (`sim/simulation_setup.rs`) that builds it when the scene asks for
 //! the effect. Its name and value then appear in the per-frame energy
 //! breakdown (`stats.csv`, `elasto check`) without further code. A term that
-//! couples vertices sharing no element (contact pairs) needs the growing
-//! pattern described in [`crate::assembly`].
+//! couples vertices sharing no element (contact pairs) declares those pairs
+//! ([`EnergyTerm::coupled_pairs`]) and adds its blocks with
+//! [`SparseHessian::add_stencil`]; the pattern grows to hold them (see
+//! [`crate::assembly`]).
 
 mod body_elasticity;
+mod contact_barrier;
 mod elasticity;
 mod element_derivatives;
 mod element_field;
@@ -33,6 +39,7 @@ mod ground_barrier;
 mod inertia;
 
 pub use body_elasticity::BodyElasticity;
+pub use contact_barrier::{ContactBarrier, ContactCounters, ContactSettings};
 pub use elasticity::Elasticity;
 pub(crate) use elasticity::PARALLEL_MIN_ELEMENTS;
 pub use element_field::ElementField;
@@ -68,9 +75,25 @@ pub trait EnergyTerm<const D: usize>: Send + Sync {
     }
     /// The largest `t` in `(0, 1]` such that the whole segment `x + s dx`,
     /// `0 <= s <= t`, stays feasible for this term, with a safety margin.
-    fn max_step(&self, _x: &[Vector<D>], _dx: &[Vector<D>]) -> f64 {
+    /// Called once per line search, before any trial point is evaluated; a
+    /// contact term finds the stencils of the swept segment here, so that
+    /// [`Self::value`] covers every trial point on it.
+    fn max_step(&mut self, _x: &[Vector<D>], _dx: &[Vector<D>]) -> f64 {
         1.0
     }
+    /// Called at the start of every solver iteration, at the iterate `x`,
+    /// before its gradient and Hessian: a contact term finds the stencils
+    /// active at `x` and may raise its stiffness here. Returns whether the
+    /// term's energy changed as a function of `x` (the solver then evaluates
+    /// `E(x)` again). Most terms do nothing.
+    fn begin_iteration(&mut self, _x: &[Vector<D>]) -> bool {
+        false
+    }
+    /// Appends the vertex pairs (simulation vertex ids) whose Hessian blocks
+    /// this term fills beyond the pairs that share an element, as found by
+    /// the last [`Self::begin_iteration`]: the sparse pattern grows to hold
+    /// them before assembly. Only contact terms have any.
+    fn coupled_pairs(&self, _pairs: &mut Vec<(usize, usize)>) {}
     /// Called once at the start of every time step, before the solve, with
     /// the positions and velocities the step starts from. A term whose
     /// energy depends on the step's start (lagged friction needs the contact

@@ -32,7 +32,8 @@ impl MeshSeriesWriter {
     }
 
     /// Writes `frame_NNNN.vtu` for the mesh at `positions` with the given
-    /// per-element scalars, and updates `frames.pvd`.
+    /// per-element scalars and per-vertex vectors (3 components, z = 0 in
+    /// 2D; e.g. `contact_force`), and updates `frames.pvd`.
     pub fn write_frame<const D: usize>(
         &mut self,
         frame: usize,
@@ -40,10 +41,11 @@ impl MeshSeriesWriter {
         mesh: &Mesh<D>,
         positions: &[Vector<D>],
         cell_scalars: &[(&str, &[f64])],
+        point_vectors: &[(&str, &[Vector<D>])],
     ) -> Result<PathBuf, OutputError> {
         let name = format!("frame_{frame:04}.vtu");
         let path = self.dir.join(&name);
-        std::fs::write(&path, vtu(mesh, positions, cell_scalars))
+        std::fs::write(&path, vtu(mesh, positions, cell_scalars, point_vectors))
             .map_err(OutputError::io("write", &path))?;
         self.entries.push((time, name));
         let pvd_path = self.dir.join("frames.pvd");
@@ -66,6 +68,7 @@ fn vtu<const D: usize>(
     mesh: &Mesh<D>,
     positions: &[Vector<D>],
     cell_scalars: &[(&str, &[f64])],
+    point_vectors: &[(&str, &[Vector<D>])],
 ) -> String {
     let mut s = String::new();
     let n = D + 1;
@@ -98,6 +101,26 @@ fn vtu<const D: usize>(
         let _ = writeln!(s, "          {}", cell_type(D));
     }
     s.push_str("        </DataArray>\n      </Cells>\n");
+    if let Some((first, _)) = point_vectors.first() {
+        let _ = writeln!(s, "      <PointData Vectors=\"{first}\">");
+        for (name, values) in point_vectors {
+            assert_eq!(
+                values.len(),
+                positions.len(),
+                "point data `{name}` needs one value per vertex"
+            );
+            let _ = writeln!(
+                s,
+                "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"3\" format=\"ascii\">"
+            );
+            for p in values.iter() {
+                let c = |i: usize| if i < D { p[i] } else { 0.0 };
+                let _ = writeln!(s, "          {} {} {}", c(0), c(1), c(2));
+            }
+            s.push_str("        </DataArray>\n");
+        }
+        s.push_str("      </PointData>\n");
+    }
     if let Some((first, _)) = cell_scalars.first() {
         let _ = writeln!(s, "      <CellData Scalars=\"{first}\">");
         for (name, values) in cell_scalars {
@@ -160,7 +183,12 @@ mod tests {
             Mesh::<2>::axis_aligned_box(Vector2::new(0.0, 0.0), Vector2::new(2.0, 1.0), [2, 1])
                 .unwrap();
         let values: Vec<f64> = (0..mesh.element_count()).map(|e| e as f64 * 0.5).collect();
-        let xml = vtu(&mesh, mesh.rest_positions(), &[("energy_density", &values)]);
+        let xml = vtu(
+            &mesh,
+            mesh.rest_positions(),
+            &[("energy_density", &values)],
+            &[],
+        );
         assert!(xml.contains("NumberOfPoints=\"6\" NumberOfCells=\"4\""));
         let offsets = data_array(&xml, "offsets");
         assert_eq!(offsets, vec![3.0, 6.0, 9.0, 12.0]);
@@ -197,6 +225,7 @@ mod tests {
                     &mesh,
                     mesh.rest_positions(),
                     &[("j", &values)],
+                    &[],
                 )
                 .unwrap();
         }
@@ -219,7 +248,7 @@ mod tests {
             Mesh::<2>::axis_aligned_box(Vector2::new(0.0, 0.0), Vector2::new(2.0, 1.0), [2, 1])
                 .unwrap();
         let values = [0.5, f64::NAN, f64::INFINITY, f64::NEG_INFINITY];
-        let xml = vtu(&mesh, mesh.rest_positions(), &[("von_mises", &values)]);
+        let xml = vtu(&mesh, mesh.rest_positions(), &[("von_mises", &values)], &[]);
         let written = data_array(&xml, "von_mises");
         assert_eq!(written[0], 0.5);
         assert!(written[1].is_nan());

@@ -38,6 +38,12 @@ const TRAILING_COLUMNS: &[&str] = &[
     "factorisation_ms",
     "solve_ms",
     "line_search_ms",
+    "min_distance",
+    "contact_pairs",
+    "broad_phase_ms",
+    "ccd_ms",
+    "ccd_budget_exhausted",
+    "reanalyses",
     "render_ms",
     "encode_ms",
 ];
@@ -58,6 +64,15 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// cap; `stalled_steps`: steps whose line search stalled before the
 /// tolerance; `assembly_ms`, `factorisation_ms`, `solve_ms` (the triangular
 /// solves), `line_search_ms`: the wall time of each solver phase;
+/// `min_distance`: the smallest distance between two surface primitives
+/// closer than the contact distance `d_hat` at the frame's end (empty when
+/// no pair is that close, or without `[effects.contact]`); `contact_pairs`:
+/// the contact stencils within `d_hat` at the last Newton iterate;
+/// `broad_phase_ms`, `ccd_ms`: wall time finding candidate pairs and in
+/// continuous collision detection; `ccd_budget_exhausted`: CCD queries that
+/// ran out of their iteration budget and used the safe step reached (all 0
+/// without contact); `reanalyses`: times the sparse Hessian's pattern grew
+/// with new contact pairs and its symbolic factorisation was redone;
 /// `render_ms`: drawing the frame's image (draw, readback, legend),
 /// `encode_ms`: encoding and writing it (PNG frame and videos, on worker
 /// threads), both 0 without rendering and empty for frames a failed run
@@ -175,6 +190,21 @@ impl StatsWriter {
             ms(stats.times.line_search),
         )
         .expect("formatting into a String cannot fail");
+        let contact = stats.contact.unwrap_or_default();
+        let min_distance = contact
+            .min_distance
+            .map(|d| d.to_string())
+            .unwrap_or_default();
+        write!(
+            row,
+            ",{min_distance},{},{:.3},{:.3},{},{}",
+            contact.active_pairs,
+            ms(contact.broad_phase),
+            ms(contact.ccd),
+            contact.ccd_budget_exhausted,
+            stats.reanalyses,
+        )
+        .expect("formatting into a String cannot fail");
         PendingRow(row)
     }
 
@@ -204,6 +234,8 @@ mod tests {
             backtracks: 1,
             unconverged_steps: 0,
             stalled_steps: 2,
+            reanalyses: 0,
+            contact: None,
             energy: EnergyBreakdown {
                 kinetic: 1.0,
                 potentials: vec![("elastic", 0.25), ("gravity", -2.0), ("barrier", 0.125)],

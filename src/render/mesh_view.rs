@@ -9,7 +9,7 @@
 use super::{RenderFrame, RenderMesh};
 use crate::math::Vector;
 use crate::mesh::Mesh;
-use std::collections::{BTreeSet, HashMap};
+use std::collections::BTreeSet;
 
 impl RenderMesh {
     /// Builds the render view of a 2D triangle mesh or a 3D tetrahedral mesh.
@@ -23,17 +23,14 @@ impl RenderMesh {
                 .enumerate()
                 .map(|(element, s)| ([s[0] as u32, s[1] as u32, s[2] as u32], element as u32))
                 .unzip(),
-            3 => {
-                let owner = boundary_owners(mesh);
-                mesh.boundary_facets()
-                    .iter()
-                    .map(|f| {
-                        let triangle = [f[0] as u32, f[1] as u32, f[2] as u32];
-                        let element = owner[&sorted(&triangle)];
-                        (triangle, element)
-                    })
-                    .unzip()
-            }
+            3 => mesh
+                .boundary()
+                .iter()
+                .map(|f| {
+                    let [a, b, c] = [f.vertices[0], f.vertices[1], f.vertices[2]];
+                    ([a as u32, b as u32, c as u32], f.element as u32)
+                })
+                .unzip(),
             _ => panic!("elasto renders 2D and 3D meshes, not {D}D ones"),
         };
         let edges: BTreeSet<[u32; 2]> = triangles
@@ -49,35 +46,6 @@ impl RenderMesh {
             element_count: mesh.element_count(),
         }
     }
-}
-
-/// For every face held by exactly one tetrahedron, that tetrahedron.
-fn boundary_owners<const D: usize>(mesh: &Mesh<D>) -> HashMap<[u32; 3], u32> {
-    let mut owners: HashMap<[u32; 3], (u32, usize)> = HashMap::new();
-    for (element, s) in mesh.simplices().enumerate() {
-        for opposite in 0..s.len() {
-            let mut face = [0u32; 3];
-            let mut k = 0;
-            for (i, &v) in s.iter().enumerate() {
-                if i != opposite {
-                    face[k] = v as u32;
-                    k += 1;
-                }
-            }
-            owners.entry(sorted(&face)).or_insert((element as u32, 0)).1 += 1;
-        }
-    }
-    owners
-        .into_iter()
-        .filter(|(_, (_, count))| *count == 1)
-        .map(|(face, (element, _))| (face, element))
-        .collect()
-}
-
-fn sorted(t: &[u32; 3]) -> [u32; 3] {
-    let mut t = *t;
-    t.sort_unstable();
-    t
 }
 
 impl RenderFrame {

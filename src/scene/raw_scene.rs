@@ -189,7 +189,21 @@ pub(crate) struct RawEffects {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ground: Option<RawGround>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<RawContact>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pinned: Option<RawPinnedList>,
+}
+
+/// `[effects.contact]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(crate) struct RawContact {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distance: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kappa: Option<f64>,
+    #[serde(default, rename = "self", skip_serializing_if = "Option::is_none")]
+    pub self_contact: Option<bool>,
 }
 
 /// `[effects.gravity]`.

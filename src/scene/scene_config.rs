@@ -538,13 +538,18 @@ impl Scene {
         common!(self, c => c.effects.ground)
     }
 
-    /// Names of the effects that exist (`gravity`, `ground`, `pinned`).
+    /// Names of the effects that exist (`gravity`, `ground`, `contact`, `pinned`).
     pub fn effect_names(&self) -> Vec<&'static str> {
-        let (g, gr, p) = common!(self, c => (c.effects.gravity.is_some(), c.effects.ground.is_some(), !c.effects.pinned.is_empty()));
-        [(g, "gravity"), (gr, "ground"), (p, "pinned")]
-            .into_iter()
-            .filter(|(on, _)| *on)
-            .map(|(_, n)| n)
-            .collect()
+        let (g, gr, co, p) = common!(self, c => (c.effects.gravity.is_some(), c.effects.ground.is_some(), c.effects.contact.is_some(), !c.effects.pinned.is_empty()));
+        [
+            (g, "gravity"),
+            (gr, "ground"),
+            (co, "contact"),
+            (p, "pinned"),
+        ]
+        .into_iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, n)| n)
+        .collect()
     }
 }

@@ -8,8 +8,9 @@
 
 use super::SceneError;
 use super::raw_scene::{
-    FieldName, Generator, Method, RawBody, RawCamera, RawEffects, RawGround, RawMaterial, RawMesh,
-    RawPinned, RawPinnedList, RawRender, RawRotate, RawScene, RawSolver, RawTime,
+    FieldName, Generator, Method, RawBody, RawCamera, RawContact, RawEffects, RawGround,
+    RawMaterial, RawMesh, RawPinned, RawPinnedList, RawRender, RawRotate, RawScene, RawSolver,
+    RawTime,
 };
 use super::scene_config::{
     BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
@@ -26,7 +27,7 @@ use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector, Vector3};
 use crate::mesh_io::{ImportOptions, load_mesh};
 use crate::render::{Camera, Colouring, RenderSettings};
-use crate::sim::{Effects, Ground, PinMotion, PinRegion};
+use crate::sim::{Contact, Effects, Ground, PinMotion, PinRegion};
 use crate::solver::{SolverMethod, SolverSettings};
 use std::path::{Path, PathBuf};
 
@@ -1032,6 +1033,37 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 kappa,
             });
         }
+        if let Some(c) = &raw.contact {
+            let distance = match c.distance {
+                Some(d) => self.positive("effects.contact.distance", d)?,
+                None => 1e-3 * bounding_box_diagonal(bodies),
+            };
+            if !(1e-150..=1e150).contains(&distance) {
+                return Err(self.err(
+                    "effects.contact.distance",
+                    format!(
+                        "must lie in [1e-150, 1e150]: the barrier works on its square squared, \
+                         which must be a normal double; got {}",
+                        num(distance)
+                    ),
+                ));
+            }
+            let kappa = match c.kappa {
+                Some(k) => Some(self.positive("effects.contact.kappa", k)?),
+                None => None,
+            };
+            let self_contact = c.self_contact.unwrap_or(true);
+            effects.contact = Some(Contact {
+                distance: Some(distance),
+                stiffness: kappa,
+                self_contact,
+            });
+            resolved.contact = Some(RawContact {
+                distance: Some(distance),
+                kappa,
+                self_contact: Some(self_contact),
+            });
+        }
         if let Some(list) = &raw.pinned {
             if list.regions.is_empty() {
                 return Err(self.err(
@@ -1290,4 +1322,27 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             })
         }
     }
+}
+
+/// The diagonal of the box around every body's rest mesh (boxes from their
+/// offset and size, files from their vertices): the length contact's
+/// default distance is a fraction of.
+fn bounding_box_diagonal<const D: usize>(bodies: &[BodyConfig<D>]) -> f64 {
+    let mut low = Vector::<D>::repeat(f64::INFINITY);
+    let mut high = Vector::<D>::repeat(f64::NEG_INFINITY);
+    for body in bodies {
+        match &body.mesh {
+            MeshConfig::Box(m) => {
+                low = low.inf(&m.offset);
+                high = high.sup(&(m.offset + m.size));
+            }
+            MeshConfig::File(f) => {
+                for x in f.mesh.rest_positions() {
+                    low = low.inf(x);
+                    high = high.sup(x);
+                }
+            }
+        }
+    }
+    (high - low).norm()
 }

@@ -15,6 +15,29 @@ pub struct Ground {
     pub stiffness: Option<f64>,
 }
 
+/// Contact between and within bodies (`[effects.contact]`), the IPC way.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contact {
+    /// The activation distance `d_hat`, in length units; `None` for the
+    /// default, `1e-3` times the diagonal of the bodies' bounding box at the start.
+    pub distance: Option<f64>,
+    /// A fixed barrier stiffness `kappa` (energy per length^4); `None` for
+    /// IPC's adaptive rule ([`crate::energy::ContactBarrier`]).
+    pub stiffness: Option<f64>,
+    /// Whether parts of one body collide with each other (default: true).
+    pub self_contact: bool,
+}
+
+impl Default for Contact {
+    fn default() -> Self {
+        Self {
+            distance: None,
+            stiffness: None,
+            self_contact: true,
+        }
+    }
+}
+
 /// The set of effects acting on the body besides inertia and elasticity.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Effects<const D: usize> {
@@ -22,6 +45,9 @@ pub struct Effects<const D: usize> {
     pub gravity: Option<Vector<D>>,
     /// Ground contact; `None` means no barrier term and no contact checks.
     pub ground: Option<Ground>,
+    /// Contact between and within bodies; `None` means bodies pass through
+    /// each other and themselves, and pay nothing for it.
+    pub contact: Option<Contact>,
     /// Pinned regions (`[[effects.pinned]]`), each with its path; empty
     /// means every vertex is free. A vertex in several regions follows the
     /// first.
@@ -33,6 +59,7 @@ impl<const D: usize> Default for Effects<D> {
         Self {
             gravity: None,
             ground: None,
+            contact: None,
             pinned: Vec::new(),
         }
     }

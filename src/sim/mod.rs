@@ -10,7 +10,7 @@
 //! ```
 //!
 //! where `U` is the sum of the potential terms the scene asks for (elasticity,
-//! gravity, the ground barrier). Its stationarity condition
+//! gravity, the ground barrier, the contact barrier between and within bodies). Its stationarity condition
 //! `M (x - x_pred) / dt^2 = -grad U(x)` is exactly backward Euler. Pinned
 //! vertices are removed from the unknowns; at the start of each step they are
 //! put on their region's prescribed path (`pin_region.rs`) and, after the
@@ -33,11 +33,11 @@ mod stats;
 mod stepping;
 
 pub use body::Body;
-pub use effects::{Effects, Ground};
+pub use effects::{Contact, Effects, Ground};
 pub use pin_region::{PinMotion, PinRegion, rotate};
 pub use sim_error::SimError;
 pub use simulation::Simulation;
-pub use stats::{EnergyBreakdown, FrameStats, StepStats};
+pub use stats::{ContactStats, EnergyBreakdown, FrameStats, StepStats};
 
 use crate::integrator::IntegratorKind;
 use crate::solver::SolverSettings;

@@ -21,6 +21,26 @@ pub enum SimError {
         /// Ground height.
         ground: f64,
     },
+    /// Two surface primitives start closer than the contact distance (or
+    /// crossing): bodies that start intersecting (bad input).
+    #[error(
+        "{bodies} start {distance:.3e} apart ({first} and {second}), closer than the contact \
+         distance d_hat = {activation:.3e}: contact needs every pair of surface primitives \
+         farther apart than d_hat at the start (move the bodies apart, or lower \
+         effects.contact.distance)"
+    )]
+    ContactAtStart {
+        /// "body 0 and body 1", or "parts of body 0".
+        bodies: String,
+        /// The first primitive ("vertex 12").
+        first: String,
+        /// The second primitive ("triangle (3, 4, 7)").
+        second: String,
+        /// Their distance (0 where they cross).
+        distance: f64,
+        /// `d_hat`.
+        activation: f64,
+    },
     /// Setting up the solver failed although the input was valid (for
     /// example the symbolic analysis of the sparse factorisation).
     #[error("setting up the solver failed: {reason}")]
@@ -46,7 +66,9 @@ impl SimError {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            SimError::InvalidSetting { .. } | SimError::BelowGround { .. }
+            SimError::InvalidSetting { .. }
+                | SimError::BelowGround { .. }
+                | SimError::ContactAtStart { .. }
         )
     }
 }

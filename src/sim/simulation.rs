@@ -1,8 +1,8 @@
 //! The simulation state (mesh, masses, positions, velocities, time), its energy terms and integrator, and the measures of a state.
 
-use super::{EnergyBreakdown, FrameStats, PinMotion, SimulationSettings};
+use super::{ContactStats, EnergyBreakdown, FrameStats, PinMotion, SimulationSettings};
 use crate::assembly::SparseHessian;
-use crate::energy::{BodyElasticity, ElementField, EnergyTerm, Inertia};
+use crate::energy::{BodyElasticity, ContactBarrier, ElementField, EnergyTerm, Inertia};
 use crate::integrator::TimeIntegrator;
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::Mesh;
@@ -27,6 +27,8 @@ pub struct Simulation<const D: usize> {
     /// The potential terms of the scene's effects (gravity, ground, ...), in order.
     pub(super) effect_terms: Vec<Box<dyn EnergyTerm<D>>>,
     pub(super) integrator: Box<dyn TimeIntegrator<D>>,
+    /// Contact between and within bodies (`None` without `[effects.contact]`).
+    pub(super) contact: Option<ContactBarrier<D>>,
     pub(super) barrier_stiffness: Option<f64>,
     pub(super) ground_height: Option<f64>,
     pub(super) hessian: SparseHessian<D>,
@@ -90,11 +92,23 @@ impl<const D: usize> Simulation<D> {
         self.hessian.free_index()
     }
 
-    /// The potential terms this scene has (elasticity first, then its effects).
+    /// The potential terms this scene has (elasticity first, then its
+    /// effects, the contact barrier last).
     pub fn potentials(&self) -> Vec<&dyn EnergyTerm<D>> {
         std::iter::once(&self.elasticity as &dyn EnergyTerm<D>)
             .chain(self.effect_terms.iter().map(|t| t.as_ref()))
+            .chain(self.contact.iter().map(|c| c as &dyn EnergyTerm<D>))
             .collect()
+    }
+
+    /// The contact term (`None` without `[effects.contact]`).
+    pub fn contact(&self) -> Option<&ContactBarrier<D>> {
+        self.contact.as_ref()
+    }
+
+    /// The contact force on every vertex, `-kappa grad B` (`None` without contact).
+    pub fn contact_forces(&self) -> Option<Vec<Vector<D>>> {
+        self.contact.as_ref().map(|c| c.forces(&self.positions))
     }
 
     /// The names of the energy entries of every frame's breakdown, in order:
@@ -122,6 +136,15 @@ impl<const D: usize> Simulation<D> {
             backtracks: 0,
             unconverged_steps: 0,
             stalled_steps: 0,
+            reanalyses: 0,
+            contact: self.contact.as_ref().map(|c| {
+                let (min_distance, active_pairs) = c.proximity(&self.positions);
+                ContactStats {
+                    min_distance,
+                    active_pairs,
+                    ..Default::default()
+                }
+            }),
             energy: self.energies(),
             centre_of_mass,
             min_height: self.ground_height.map(|h| {

@@ -12,7 +12,13 @@
 use super::simulation::PinnedVertex;
 use super::{Body, Effects, PinMotion, PinRegion, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
-use crate::energy::{BodyElasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
+use crate::contact::{
+    CandidateFinder, CollisionMesh, ContactStencil, StencilKind, SurfaceCrossing,
+    first_surface_crossing,
+};
+use crate::energy::{
+    BodyElasticity, ContactBarrier, ContactSettings, EnergyTerm, Gravity, GroundBarrier, Inertia,
+};
 use crate::material::Material;
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::Mesh;
@@ -30,7 +36,7 @@ fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
 /// acceleration of the initial state under every potential term.
 fn initial_acceleration<const D: usize>(
     elasticity: &dyn EnergyTerm<D>,
-    effect_terms: &[Box<dyn EnergyTerm<D>>],
+    effect_terms: &[&dyn EnergyTerm<D>],
     masses: &[f64],
     free_index: &[Option<usize>],
     positions: &[Vector<D>],
@@ -284,14 +290,25 @@ impl<const D: usize> Simulation<D> {
             )));
             barrier_stiffness = Some(stiffness);
         }
+        let contact = match effects.contact {
+            Some(contact) => Some(contact_barrier(
+                &mesh, &owner, &masses, &positions, contact,
+            )?),
+            None => None,
+        };
         let hessian =
             SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SetupFailure {
                 reason: e.to_string(),
             })?;
         let mut integrator = settings.integrator.build(positions.len());
+        let mut potentials: Vec<&dyn EnergyTerm<D>> =
+            effect_terms.iter().map(|t| t.as_ref()).collect();
+        if let Some(contact) = &contact {
+            potentials.push(contact);
+        }
         integrator.set_initial_acceleration(&initial_acceleration(
             &elasticity,
-            &effect_terms,
+            &potentials,
             &masses,
             hessian.free_index(),
             &positions,
@@ -301,6 +318,7 @@ impl<const D: usize> Simulation<D> {
             elasticity,
             effect_terms,
             integrator,
+            contact,
             barrier_stiffness,
             ground_height: effects.ground.map(|g| g.height),
             mesh,
@@ -314,6 +332,153 @@ impl<const D: usize> Simulation<D> {
             motions,
             pinned,
         })
+    }
+}
+
+/// The contact term of the bodies (vertex `v` of body `owner[v]`) at their
+/// rest positions, refused when two surface primitives start closer than
+/// `d_hat` (bodies that start intersecting or touching).
+fn contact_barrier<const D: usize>(
+    mesh: &Mesh<D>,
+    owner: &[usize],
+    masses: &[f64],
+    positions: &[Vector<D>],
+    contact: super::Contact,
+) -> Result<ContactBarrier<D>, SimError> {
+    let (low, high) = positions.iter().fold(
+        (
+            Vector::<D>::repeat(f64::INFINITY),
+            Vector::<D>::repeat(f64::NEG_INFINITY),
+        ),
+        |(low, high), x| (low.inf(x), high.sup(x)),
+    );
+    let diagonal = (high - low).norm();
+    let distance = contact.distance.unwrap_or(1e-3 * diagonal);
+    if !(distance > 0.0 && distance.is_finite()) {
+        return Err(invalid(
+            "contact",
+            format!("the contact distance must be positive and finite, got {distance}"),
+        ));
+    }
+    if let Some(kappa) = contact.stiffness
+        && !(kappa > 0.0 && kappa.is_finite())
+    {
+        return Err(invalid(
+            "contact",
+            format!("the contact stiffness must be positive and finite, got {kappa}"),
+        ));
+    }
+    let collision_mesh = CollisionMesh::new(mesh, owner);
+    if let Some(crossing) = first_surface_crossing(&collision_mesh, positions, contact.self_contact)
+    {
+        let edge = |e: usize| collision_mesh.edges()[e];
+        let (first, second, a, b) = match crossing {
+            SurfaceCrossing::Edges(a, b) => {
+                let (ea, eb) = (edge(a), edge(b));
+                (
+                    format!("edge ({}, {})", ea[0], ea[1]),
+                    format!("edge ({}, {})", eb[0], eb[1]),
+                    owner[ea[0]],
+                    owner[eb[0]],
+                )
+            }
+            SurfaceCrossing::EdgeThroughFace { edge: e, face } => {
+                let (ea, f) = (edge(e), collision_mesh.faces()[face]);
+                (
+                    format!("edge ({}, {})", ea[0], ea[1]),
+                    format!("triangle ({}, {}, {})", f[0], f[1], f[2]),
+                    owner[ea[0]],
+                    owner[f[0]],
+                )
+            }
+        };
+        return Err(SimError::ContactAtStart {
+            bodies: bodies_label(a, b),
+            first,
+            second,
+            distance: 0.0,
+            activation: distance,
+        });
+    }
+    let mut stencils = Vec::new();
+    CandidateFinder::default().find(
+        &collision_mesh,
+        positions,
+        None,
+        distance,
+        contact.self_contact,
+        &mut stencils,
+    );
+    let closest = stencils
+        .iter()
+        .map(|s| (s, s.distance_squared(positions)))
+        .filter(|(_, d2)| *d2 < distance * distance)
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    if let Some((stencil, d2)) = closest {
+        return Err(contact_at_start(
+            stencil,
+            d2.max(0.0).sqrt(),
+            distance,
+            owner,
+        ));
+    }
+    let settings = ContactSettings {
+        activation_distance: distance,
+        stiffness: contact.stiffness,
+        self_contact: contact.self_contact,
+    };
+    Ok(ContactBarrier::new(
+        collision_mesh,
+        settings,
+        masses,
+        diagonal,
+        positions,
+    ))
+}
+
+/// The error for a stencil that starts within `d_hat`, naming its bodies and primitives.
+fn contact_at_start(
+    stencil: &ContactStencil,
+    distance: f64,
+    activation: f64,
+    owner: &[usize],
+) -> SimError {
+    let v = stencil.vertices;
+    let (first, second, body_a, body_b) = match stencil.kind {
+        StencilKind::PointEdge => (
+            format!("vertex {}", v[0]),
+            format!("edge ({}, {})", v[1], v[2]),
+            owner[v[0]],
+            owner[v[1]],
+        ),
+        StencilKind::PointTriangle => (
+            format!("vertex {}", v[0]),
+            format!("triangle ({}, {}, {})", v[1], v[2], v[3]),
+            owner[v[0]],
+            owner[v[1]],
+        ),
+        StencilKind::EdgeEdge => (
+            format!("edge ({}, {})", v[0], v[1]),
+            format!("edge ({}, {})", v[2], v[3]),
+            owner[v[0]],
+            owner[v[2]],
+        ),
+    };
+    SimError::ContactAtStart {
+        bodies: bodies_label(body_a, body_b),
+        first,
+        second,
+        distance,
+        activation,
+    }
+}
+
+/// "body 0 and body 1", or "parts of body 0 ..." when both are one body.
+fn bodies_label(a: usize, b: usize) -> String {
+    if a == b {
+        format!("parts of body {a} (its surface self-intersects or folds within d_hat)")
+    } else {
+        format!("body {} and body {}", a.min(b), a.max(b))
     }
 }
 

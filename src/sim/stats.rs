@@ -52,6 +52,22 @@ pub struct StepStats<const D: usize> {
     pub min_volume_ratio: f64,
 }
 
+/// What contact did over a frame (a scene with `[effects.contact]` only).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ContactStats {
+    /// The smallest distance between two surface primitives closer than
+    /// `d_hat` at the frame's end (`None` when no pair is that close).
+    pub min_distance: Option<f64>,
+    /// Stencils within `d_hat` at the last iterate.
+    pub active_pairs: usize,
+    /// Wall time in the broad phase over the frame's steps.
+    pub broad_phase: Duration,
+    /// Wall time in continuous collision detection.
+    pub ccd: Duration,
+    /// CCD queries that ran out of their iteration budget (a safe step was used).
+    pub ccd_budget_exhausted: usize,
+}
+
 /// Statistics of one output frame (several substeps), measured at its end.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FrameStats<const D: usize> {
@@ -68,6 +84,10 @@ pub struct FrameStats<const D: usize> {
     /// Substeps whose line search stalled (found no decrease) before meeting
     /// the tolerance.
     pub stalled_steps: usize,
+    /// Times the Hessian's pattern grew and was analysed again (new contact pairs).
+    pub reanalyses: usize,
+    /// Contact's measures (`None` without `[effects.contact]`).
+    pub contact: Option<ContactStats>,
     /// Energies at the end of the frame.
     pub energy: EnergyBreakdown,
     /// Centre of mass.

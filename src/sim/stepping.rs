@@ -54,16 +54,27 @@ impl<const D: usize> Simulation<D> {
         for term in &mut self.effect_terms {
             term.begin_step(&self.positions, &self.velocities);
         }
+        if let Some(contact) = &mut self.contact {
+            contact.begin_step(&self.positions, &self.velocities);
+        }
         self.inertia.set_prediction(self.integrator.predicted());
         let weight = self.integrator.potential_weight(dt);
-        let mut terms: Vec<(&dyn EnergyTerm<D>, f64)> = vec![(&self.inertia, 1.0)];
-        terms.push((&self.elasticity, weight));
-        terms.extend(self.effect_terms.iter().map(|t| (t.as_ref(), weight)));
-        let objective = Objective::new(terms);
+        self.balance_contact_stiffness(weight);
+        let mut terms: Vec<(&mut dyn EnergyTerm<D>, f64)> = vec![(&mut self.inertia, 1.0)];
+        terms.push((&mut self.elasticity, weight));
+        terms.extend(
+            self.effect_terms
+                .iter_mut()
+                .map(|t| (t.as_mut() as &mut dyn EnergyTerm<D>, weight)),
+        );
+        if let Some(contact) = &mut self.contact {
+            terms.push((contact, weight));
+        }
+        let mut objective = Objective::new(terms);
         let solver = self.settings.solver;
         let result = match solver.method {
             SolverMethod::Newton => newton(
-                &objective,
+                &mut objective,
                 &mut self.hessian,
                 &mut self.positions,
                 dt,
@@ -71,7 +82,7 @@ impl<const D: usize> Simulation<D> {
                 solver.max_iterations,
             ),
             SolverMethod::GradientDescent { step } => gradient_descent(
-                &objective,
+                &mut objective,
                 self.hessian.free_index(),
                 &self.masses,
                 &mut self.positions,
@@ -81,6 +92,7 @@ impl<const D: usize> Simulation<D> {
                 solver.max_iterations,
             ),
         };
+        drop(objective);
         let failure = |reason: String| SimError::SolverFailure {
             step: self.steps,
             time: self.time,
@@ -112,6 +124,27 @@ impl<const D: usize> Simulation<D> {
         self.time += dt;
         self.steps += 1;
         Ok(stats)
+    }
+
+    /// Sets the contact stiffness for this step by IPC's balance rule (an
+    /// adaptive stiffness only): the gradient of the objective without the
+    /// contact at the step's start, `M (x - x~) + w grad U`, against the
+    /// barrier's.
+    fn balance_contact_stiffness(&mut self, weight: f64) {
+        let Some(contact) = &mut self.contact else {
+            return;
+        };
+        if !contact.is_adaptive() {
+            return;
+        }
+        let x = &self.positions;
+        let mut gradient = vec![crate::math::Vector::<D>::zeros(); x.len()];
+        self.inertia.add_gradient(x, 1.0, &mut gradient);
+        self.elasticity.add_gradient(x, weight, &mut gradient);
+        for term in &self.effect_terms {
+            term.add_gradient(x, weight, &mut gradient);
+        }
+        contact.balance_stiffness(x, &gradient, weight, self.hessian.free_index());
     }
 
     /// Frees the vertices of every region whose `release` time has come (the
@@ -153,11 +186,11 @@ impl<const D: usize> Simulation<D> {
             })
             .collect();
         self.hessian =
-            crate::assembly::SparseHessian::new(&self.mesh, free_index).map_err(|e| {
-                SimError::SetupFailure {
+            self.hessian
+                .with_free_index(free_index)
+                .map_err(|e| SimError::SetupFailure {
                     reason: format!("releasing pinned vertices at t = {}: {e}", self.time),
-                }
-            })?;
+                })?;
         Ok(())
     }
 
@@ -229,11 +262,13 @@ impl<const D: usize> Simulation<D> {
         let start = Instant::now();
         let mut totals = SolverStats::default();
         let (mut unconverged_steps, mut stalled_steps) = (0, 0);
+        let contact_before = self.contact.as_ref().map(|c| c.counters());
         for _ in 0..substeps {
             let step = self.solve_step()?;
             totals.iterations += step.iterations;
             totals.linear_solves += step.linear_solves;
             totals.backtracks += step.backtracks;
+            totals.reanalyses += step.reanalyses;
             totals.times += step.times;
             unconverged_steps += usize::from(step.hit_iteration_cap());
             stalled_steps += usize::from(step.stalled);
@@ -244,6 +279,15 @@ impl<const D: usize> Simulation<D> {
         frame.backtracks = totals.backtracks;
         frame.unconverged_steps = unconverged_steps;
         frame.stalled_steps = stalled_steps;
+        frame.reanalyses = totals.reanalyses;
+        if let (Some(stats), Some(contact), Some(before)) =
+            (&mut frame.contact, &self.contact, contact_before)
+        {
+            let after = contact.counters();
+            stats.broad_phase = after.broad_phase - before.broad_phase;
+            stats.ccd = after.ccd - before.ccd;
+            stats.ccd_budget_exhausted = after.ccd_budget_exhausted - before.ccd_budget_exhausted;
+        }
         frame.times = totals.times;
         frame.wall_time = start.elapsed();
         Ok(frame)

@@ -27,7 +27,7 @@ use std::time::Instant;
 /// `masses` are the lumped vertex masses of the inertia term.
 #[allow(clippy::too_many_arguments)]
 pub fn gradient_descent<const D: usize>(
-    objective: &Objective<'_, D>,
+    objective: &mut Objective<'_, D>,
     free: &[Option<usize>],
     masses: &[f64],
     x: &mut [Vector<D>],
@@ -41,6 +41,8 @@ pub fn gradient_descent<const D: usize>(
     let scale = step / (dt * dt);
     loop {
         let start = Instant::now();
+        // No Hessian here, so no pattern to grow: the error cannot occur.
+        let _ = objective.begin_iteration(x, None);
         objective.gradient(x, &mut gradient);
         stats.residual = gradient
             .iter()

@@ -27,7 +27,7 @@ const MAX_BACKTRACKS: usize = 60;
 
 /// Minimises `objective` from `x` in place by projected Newton.
 pub fn newton<const D: usize>(
-    objective: &Objective<'_, D>,
+    objective: &mut Objective<'_, D>,
     hessian: &mut SparseHessian<D>,
     x: &mut [Vector<D>],
     dt: f64,
@@ -49,6 +49,18 @@ pub fn newton<const D: usize>(
     while stats.iterations < max_iterations {
         stats.iterations += 1;
         let start = Instant::now();
+        let iteration = objective
+            .begin_iteration(x, Some(hessian))
+            .map_err(SolveError::Factorisation)?;
+        if iteration.reanalysed {
+            stats.reanalyses += 1;
+            if flat.len() != hessian.dofs() {
+                flat.resize(hessian.dofs(), 0.0);
+            }
+        }
+        if iteration.energy_changed {
+            energy = objective.value(x);
+        }
         objective.gradient_and_hessian(x, &mut gradient, hessian);
         stats.times.assembly += start.elapsed();
 

@@ -1,19 +1,56 @@
 //! The incremental potential as a weighted sum of energy terms.
 
-use crate::assembly::SparseHessian;
+use crate::assembly::{FactorisationError, SparseHessian};
 use crate::energy::EnergyTerm;
 use crate::math::Vector;
 
 /// `E(x) = sum_k w_k U_k(x)`: the terms a scene asks for with their weights
 /// (1 for inertia, `dt^2` for the potentials).
 pub struct Objective<'a, const D: usize> {
-    terms: Vec<(&'a dyn EnergyTerm<D>, f64)>,
+    terms: Vec<(&'a mut dyn EnergyTerm<D>, f64)>,
+    coupled_pairs: Vec<(usize, usize)>,
+}
+
+/// What [`Objective::begin_iteration`] found.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct IterationStart {
+    /// Some term's energy changed as a function (its stiffness rose): `E(x)`
+    /// must be evaluated again.
+    pub energy_changed: bool,
+    /// The Hessian's pattern grew and was analysed again.
+    pub reanalysed: bool,
 }
 
 impl<'a, const D: usize> Objective<'a, D> {
     /// An objective from `(term, weight)` pairs.
-    pub fn new(terms: Vec<(&'a dyn EnergyTerm<D>, f64)>) -> Self {
-        Self { terms }
+    pub fn new(terms: Vec<(&'a mut dyn EnergyTerm<D>, f64)>) -> Self {
+        Self {
+            terms,
+            coupled_pairs: Vec::new(),
+        }
+    }
+
+    /// Starts a solver iteration at `x`: every term's
+    /// [`EnergyTerm::begin_iteration`], then the pairs the terms couple are
+    /// put into `hessian`'s pattern (re-analysed only if a pair is new;
+    /// `None` for a solver without a Hessian).
+    pub fn begin_iteration(
+        &mut self,
+        x: &[Vector<D>],
+        hessian: Option<&mut SparseHessian<D>>,
+    ) -> Result<IterationStart, FactorisationError> {
+        let mut start = IterationStart::default();
+        self.coupled_pairs.clear();
+        for (term, _) in &mut self.terms {
+            start.energy_changed |= term.begin_iteration(x);
+            term.coupled_pairs(&mut self.coupled_pairs);
+        }
+        if let Some(hessian) = hessian
+            && !self.coupled_pairs.is_empty()
+        {
+            start.reanalysed = hessian.include_pairs(self.coupled_pairs.iter().copied())?;
+        }
+        Ok(start)
     }
 
     /// `E(x)`.
@@ -57,9 +94,10 @@ impl<'a, const D: usize> Objective<'a, D> {
     }
 
     /// The largest feasible fraction of the step `dx` (contact, inversion).
-    pub fn max_step(&self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+    /// Called once per line search, before the trial points.
+    pub fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
         self.terms
-            .iter()
+            .iter_mut()
             .map(|(term, _)| term.max_step(x, dx))
             .fold(1.0, f64::min)
     }

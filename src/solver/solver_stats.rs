@@ -33,6 +33,9 @@ pub struct SolverStats {
     pub linear_solves: usize,
     /// Line-search backtracks (step halvings).
     pub backtracks: usize,
+    /// Times the Hessian's pattern grew (new contact pairs) and its symbolic
+    /// factorisation was redone.
+    pub reanalyses: usize,
     /// Whether the tolerance was met before the iteration cap.
     pub converged: bool,
     /// Whether the solve stopped early because the line search found no

@@ -170,6 +170,7 @@ fn hanging_bar_tip<const D: usize>(cells_along: usize, cells_across: usize) -> (
     let effects = Effects {
         gravity: Some(unit::<D>(1) * -g),
         ground: None,
+        contact: None,
         pinned: vec![pinned],
     };
     let settings = SimulationSettings {

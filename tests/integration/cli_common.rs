@@ -75,6 +75,12 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "factorisation_ms",
     "solve_ms",
     "line_search_ms",
+    "min_distance",
+    "contact_pairs",
+    "broad_phase_ms",
+    "ccd_ms",
+    "ccd_budget_exhausted",
+    "reanalyses",
     "render_ms",
     "encode_ms",
 ];

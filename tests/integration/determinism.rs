@@ -26,6 +26,7 @@ fn simulate<const D: usize>(cells: [usize; D]) -> Vec<Vector<D>> {
             activation_distance: 0.1,
             stiffness: None,
         }),
+        contact: None,
         pinned: Vec::new(),
     };
     let velocity = Vector::<D>::from_fn(|k, _| if k == 0 { 1.0 } else { -2.0 });

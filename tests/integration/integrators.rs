@@ -37,6 +37,7 @@ fn bar(gravity: Option<Vector2>) -> (Mesh<2>, Effects<2>) {
     let effects = Effects {
         gravity,
         ground: None,
+        contact: None,
         pinned: vec![PinRegion::new(
             Vector2::new(-1.0, -1.0),
             Vector2::new(1e-9, 2.0),
@@ -411,6 +412,7 @@ fn a_3d_drop_runs_with_every_integrator() {
                 activation_distance: 0.05,
                 stiffness: None,
             }),
+            contact: None,
             pinned: Vec::new(),
         };
         let mut sim = Simulation::new(

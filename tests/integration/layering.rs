@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["math"],
     &["mesh", "material"],
-    &["assembly", "mesh_io"],
+    &["assembly", "contact", "mesh_io"],
     &["energy", "finite_volume"],
     &["solver"],
     &["integrator"],

@@ -30,6 +30,7 @@ mod cli_study;
 mod cli_sweep;
 mod compare_cli;
 mod compare_flip;
+mod contact;
 mod derivatives;
 mod determinism;
 mod element_fields;

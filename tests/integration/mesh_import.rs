@@ -554,7 +554,7 @@ fn an_imported_mesh_survives_a_round_trip_through_the_vtu_writer() {
     let mut writer = MeshSeriesWriter::create(dir.path()).unwrap();
     let field: Vec<f64> = (0..mesh.element_count()).map(|e| e as f64).collect();
     let path = writer
-        .write_frame(0, 0.0, &mesh, mesh.rest_positions(), &[("j", &field)])
+        .write_frame(0, 0.0, &mesh, mesh.rest_positions(), &[("j", &field)], &[])
         .unwrap();
     let (again, report) = load3(&path);
     assert_eq!(report.format, "VTK XML unstructured grid");
@@ -570,7 +570,7 @@ fn an_imported_mesh_survives_a_round_trip_through_the_vtu_writer() {
     let (square, _) =
         load_mesh::<2>(&data("square_v41_ascii.msh"), &ImportOptions::default()).unwrap();
     let path = writer
-        .write_frame(1, 0.1, &square, square.rest_positions(), &[])
+        .write_frame(1, 0.1, &square, square.rest_positions(), &[], &[])
         .unwrap();
     let (again, _) = load_mesh::<2>(&path, &ImportOptions::default()).unwrap();
     assert_eq!(again.rest_positions(), square.rest_positions());

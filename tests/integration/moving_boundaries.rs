@@ -50,6 +50,7 @@ fn simulation<const D: usize>(
     let effects = Effects {
         gravity: None,
         ground: None,
+        contact: None,
         pinned,
     };
     let mut settings = SimulationSettings {
@@ -365,6 +366,7 @@ fn a_move_into_the_ground_is_refused() {
             activation_distance: 0.1,
             stiffness: None,
         }),
+        contact: None,
         pinned: vec![plate],
     };
     let settings = SimulationSettings {
@@ -416,6 +418,7 @@ fn a_motion_with_bad_numbers_is_bad_input() {
         let effects = Effects {
             gravity: None,
             ground: None,
+            contact: None,
             pinned: vec![end::<3>(-1.0, 1e-9).moving(motion)],
         };
         let error = Simulation::new(
@@ -605,6 +608,7 @@ fn a_body_region_moves_like_an_effects_region() {
     let effects = Effects {
         gravity: None,
         ground: None,
+        contact: None,
         pinned: vec![PinRegion::new(
             Vector::<2>::new(-1.0, -1.0),
             Vector::<2>::new(1e-9, 1.5),

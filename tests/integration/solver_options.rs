@@ -17,6 +17,7 @@ fn falling_box(solver: SolverSettings, ground: bool) -> Simulation<2> {
             activation_distance: 0.1,
             stiffness: None,
         }),
+        contact: None,
         pinned: Vec::new(),
     };
     Simulation::new(

@@ -57,6 +57,7 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
             activation_distance: 0.05,
             stiffness: None,
         }),
+        contact: None,
         pinned: Vec::new(),
     };
     let settings = SimulationSettings {

@@ -15,6 +15,8 @@ macro_rules! both_dimensions {
     )*};
 }
 
+pub mod intersection;
+
 use elasto::material::{
     FixedCorotated, LameParameters, Material, NeoHookean, StVenantKirchhoff, StableNeoHookean,
     YoungPoisson,
@@ -95,6 +97,7 @@ pub fn report_drop(release_height: f64, a: f64, settings: SimulationSettings) ->
             activation_distance: a,
             stiffness: None,
         }),
+        contact: None,
         pinned: Vec::new(),
     };
     Simulation::new(
