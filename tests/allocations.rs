@@ -13,7 +13,8 @@
 mod support;
 
 use elasto::assembly::SparseHessian;
-use elasto::energy::{BodyElasticity, Elasticity, EnergyTerm};
+use elasto::contact::CollisionMesh;
+use elasto::energy::{BodyElasticity, ContactBarrier, ContactSettings, Elasticity, EnergyTerm};
 use elasto::material::Material;
 use elasto::math::Vector;
 use elasto::mesh::Mesh;
@@ -169,8 +170,83 @@ fn step_allocations(cells: usize) -> (usize, usize) {
     (count, iterations)
 }
 
+/// Allocations of one Newton iteration's contact work once the pattern
+/// holds every pair: the active set at `x`, the pattern check, the
+/// gradient and stencil Hessians, and the line search's swept candidates
+/// with CCD. Two squares of 4 x 4 cells, one 0.002 above the other
+/// (`d_hat` 0.005): 2D point-edge stencils.
+fn contact_iteration_allocations() -> (usize, usize) {
+    let lower = square(4);
+    let n = lower.vertex_count();
+    let positions: Vec<Vector<2>> = lower
+        .rest_positions()
+        .iter()
+        .copied()
+        .chain(
+            lower
+                .rest_positions()
+                .iter()
+                .map(|p| p + Vector::<2>::new(0.3, 1.002)),
+        )
+        .collect();
+    let simplices = lower
+        .simplices()
+        .map(<[usize]>::to_vec)
+        .chain(lower.simplices().map(|s| s.iter().map(|v| v + n).collect()))
+        .collect();
+    let mesh = Mesh::new(positions.clone(), simplices).unwrap();
+    let owner: Vec<usize> = (0..2 * n).map(|v| v / n).collect();
+    let settings = ContactSettings {
+        activation_distance: 0.005,
+        stiffness: Some(1e3),
+        self_contact: true,
+    };
+    let masses = vec![1.0; 2 * n];
+    let mut term = ContactBarrier::new(
+        CollisionMesh::new(&mesh, &owner),
+        settings,
+        &masses,
+        2.0,
+        &positions,
+    );
+    let free = (0..2 * n).map(Some).collect();
+    let mut hessian = SparseHessian::new(&mesh, free).unwrap();
+    let mut gradient = vec![Vector::<2>::zeros(); 2 * n];
+    let mut pairs = Vec::new();
+    let dx: Vec<Vector<2>> = (0..2 * n)
+        .map(|v| Vector::<2>::new(0.0, if v < n { 0.0 } else { -0.01 }))
+        .collect();
+    let mut iteration = || {
+        term.begin_iteration(&positions);
+        pairs.clear();
+        term.coupled_pairs(&mut pairs);
+        hessian.include_pairs(pairs.iter().copied()).unwrap();
+        hessian.clear();
+        term.add_gradient_and_hessian(&positions, 1e-4, &mut gradient, &mut hessian);
+        let step = term.max_step(&positions, &dx);
+        assert!(
+            step > 0.0 && step < 1.0,
+            "the step is capped by CCD: {step}"
+        );
+    };
+    iteration();
+    let count = allocations_of(iteration);
+    (count, pairs.len())
+}
+
 #[test]
 fn assembly_and_steps_allocate_independently_of_the_mesh_size() {
+    // Contact: once the pattern holds its pairs, an iteration allocates nothing.
+    let (contact, pairs) = contact_iteration_allocations();
+    assert!(
+        pairs > 0,
+        "the squares are within d_hat: stencils are active"
+    );
+    assert_eq!(
+        contact, 0,
+        "a contact iteration with a stable pattern allocated"
+    );
+
     // 200 triangles (below the parallel threshold) and 7200 (split across threads).
     let (small_single, small_bodies) = assembly_allocations(10);
     let (large_single, large_bodies) = assembly_allocations(60);

@@ -392,7 +392,8 @@ impl FrameLog {
         if let Some(profile) = &mut self.profile
             && frame > 0
         {
-            profile.simulated(&stats.times, stats.wall_time);
+            let contact = stats.contact.map(|c| [c.broad_phase, c.ccd]);
+            profile.simulated(&stats.times, stats.wall_time, contact);
         }
         let row = self.stats.row(frame, stats);
         if self.render {

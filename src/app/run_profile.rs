@@ -42,6 +42,9 @@ const SIMULATION_PHASES: usize = 5;
 #[derive(Debug, Default)]
 pub struct RunProfile {
     simulated: Vec<[Duration; SIMULATION_PHASES]>,
+    /// Per simulated frame of a contact scene: the broad phase (part of
+    /// assembly and line search) and CCD (part of the line search).
+    contact: Vec<[Duration; 2]>,
     rendered: Vec<[Duration; PHASES.len() - SIMULATION_PHASES]>,
     /// Frames drawn by each device.
     per_device: Vec<usize>,
@@ -59,8 +62,15 @@ pub struct RunSpans {
 }
 
 impl RunProfile {
-    /// Records a simulated frame: its solver phases and its whole wall time.
-    pub fn simulated(&mut self, times: &PhaseTimes, wall: Duration) {
+    /// Records a simulated frame: its solver phases and its whole wall
+    /// time, and for a contact scene its broad phase and CCD times.
+    pub fn simulated(
+        &mut self,
+        times: &PhaseTimes,
+        wall: Duration,
+        contact: Option<[Duration; 2]>,
+    ) {
+        self.contact.extend(contact);
         let solver = times.assembly + times.factorisation + times.solve + times.line_search;
         self.simulated.push([
             times.assembly,
@@ -113,6 +123,21 @@ impl RunProfile {
             let _ = writeln!(
                 text,
                 "{name:<22} {:>8} {:>14.3} {:>9.3}",
+                values.len(),
+                median(&values).as_secs_f64() * 1e3,
+                total.as_secs_f64()
+            );
+        }
+        let contact_rows = ["  contact broad phase", "  contact CCD"];
+        for (k, name) in contact_rows.iter().enumerate() {
+            let values: Vec<Duration> = self.contact.iter().map(|row| row[k]).collect();
+            if values.is_empty() {
+                continue;
+            }
+            let total: Duration = values.iter().sum();
+            let _ = writeln!(
+                text,
+                "{name:<22} {:>8} {:>14.3} {:>9.3}   (within assembly and line search)",
                 values.len(),
                 median(&values).as_secs_f64() * 1e3,
                 total.as_secs_f64()
@@ -198,7 +223,7 @@ mod tests {
                 solve: ms(1),
                 line_search: ms(1),
             };
-            profile.simulated(&times, ms(wall));
+            profile.simulated(&times, ms(wall), None);
         }
         for draw in [30, 10, 20, 40] {
             profile.rendered(&FrameCost {
@@ -224,12 +249,21 @@ mod tests {
         assert_eq!(row(&table, "wall time of the run"), ["1.500"]);
         // Frames drawn by each device: 10 and 20 ms on the first, 30 and 40 on the second.
         assert_eq!(row(&table, "frames per device"), ["2", "+", "2"]);
+        // No contact: no contact rows.
+        assert!(!table.contains("contact"));
+        profile.simulated(&PhaseTimes::default(), ms(5), Some([ms(2), ms(1)]));
+        let table = profile.table(&spans(span(1500, None), None, None), 2);
+        assert_eq!(
+            row(&table, "  contact broad phase")[..3],
+            ["1", "2.000", "0.002"]
+        );
+        assert_eq!(row(&table, "  contact CCD")[..3], ["1", "1.000", "0.001"]);
     }
 
     #[test]
     fn a_run_without_rendering_has_no_rendering_rows() {
         let mut profile = RunProfile::default();
-        profile.simulated(&PhaseTimes::default(), ms(2));
+        profile.simulated(&PhaseTimes::default(), ms(2), None);
         let table = profile.table(&spans(span(2, None), None, None), 2);
         assert_eq!(row(&table, "other simulation"), ["1", "2.000", "0.002"]);
         assert!(!table.contains("draw"), "{table}");
@@ -239,7 +273,7 @@ mod tests {
     #[test]
     fn spans_show_the_cores_busy_over_them() {
         let mut profile = RunProfile::default();
-        profile.simulated(&PhaseTimes::default(), ms(2));
+        profile.simulated(&PhaseTimes::default(), ms(2), None);
         let rendering = span(200, Some(370));
         let frames = span(180, Some(354));
         let table = profile.table(

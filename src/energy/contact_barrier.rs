@@ -96,6 +96,8 @@ pub struct ContactBarrier<const D: usize> {
     /// Their derivatives (reused buffer).
     derivatives: Vec<Option<StencilEnergy>>,
     previous_min_distance_squared: f64,
+    /// `grad B` at a step's start (reused buffer).
+    barrier_gradient: Vec<Vector<D>>,
     ccd: CcdSettings,
     counters: ContactCounters,
 }
@@ -126,6 +128,7 @@ impl<const D: usize> ContactBarrier<D> {
             active: Vec::new(),
             derivatives: Vec::new(),
             previous_min_distance_squared: f64::INFINITY,
+            barrier_gradient: Vec::new(),
             ccd: CcdSettings::default(),
             counters: ContactCounters::default(),
         };
@@ -232,7 +235,9 @@ impl<const D: usize> ContactBarrier<D> {
             return;
         }
         self.previous_min_distance_squared = self.find_active(x);
-        let mut barrier_gradient = vec![Vector::<D>::zeros(); x.len()];
+        let mut barrier_gradient = std::mem::take(&mut self.barrier_gradient);
+        barrier_gradient.clear();
+        barrier_gradient.resize(x.len(), Vector::<D>::zeros());
         self.add_barrier_gradient(x, 1.0, &mut barrier_gradient);
         let (mut dot, mut norm_squared) = (0.0, 0.0);
         for ((gb, ge), free) in barrier_gradient.iter().zip(rest_gradient).zip(free_index) {
@@ -241,6 +246,7 @@ impl<const D: usize> ContactBarrier<D> {
                 norm_squared += gb.norm_squared();
             }
         }
+        self.barrier_gradient = barrier_gradient;
         let (min, max) = self.stiffness_bounds(weight);
         self.max_stiffness = max;
         let balanced = if norm_squared > 0.0 {

@@ -1,7 +1,7 @@
-//! Contact between and within bodies (IPC), through the binary: bodies that meet stay apart on every saved frame (checked by the independent intersection test of `support::intersection`), the same scenes without `[effects.contact]` pass through each other, and bodies that start intersecting are refused before any work.
+//! Contact between and within bodies (IPC), through the binary: bodies that meet stay apart on every saved frame (checked by the independent intersection test of `support/intersection.rs`), the same scenes without `[effects.contact]` pass through each other, and bodies that start intersecting are refused before any work.
 
 use crate::cli_common::*;
-use crate::support::intersection::{SavedSurface, find_intersections};
+use crate::intersection::{SavedSurface, find_intersections};
 use std::path::Path;
 
 /// Two boxes in 2D: the upper one falls onto the lower one, which rests on the ground.
@@ -241,4 +241,175 @@ fn bodies_that_start_intersecting_are_refused_naming_both() {
             "a refused run wrote its folder"
         );
     }
+}
+
+/// Runs a scene of the repository (a path under `scenes/`) with `extra`
+/// flags; returns its folder's stats.
+fn run_repository_scene(
+    dir: &Path,
+    scene: &str,
+    out: &str,
+    extra: &[&str],
+) -> (Vec<String>, Vec<Vec<String>>) {
+    let path = format!("{}/scenes/{scene}", env!("CARGO_MANIFEST_DIR"));
+    let mut args = vec![
+        "run",
+        path.as_str(),
+        "--no-render",
+        "--save-surface",
+        "obj",
+        "--quiet",
+        "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    let o = elasto(dir, &args);
+    assert_code(&o, 0);
+    read_csv(&dir.join(out).join("stats.csv"))
+}
+
+fn total(header: &[String], rows: &[Vec<String>], name: &str) -> usize {
+    column(header, rows, name)
+        .iter()
+        .map(|c| c.parse::<usize>().unwrap())
+        .sum()
+}
+
+#[test]
+fn the_contact_scenes_stay_intersection_free_on_every_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    // The 3D scenes are cut short to their first contacts (the whole runs
+    // take tens of seconds in the test build).
+    let runs: [(&str, &[&str]); 4] = [
+        ("contact/squares-2d.toml", &[]),
+        ("contact/ring-fold-2d.toml", &[]),
+        ("two-bodies.toml", &["--frames", "14"]),
+        ("contact/box-stack-3d.toml", &["--frames", "8"]),
+    ];
+    for (i, (scene, extra)) in runs.iter().enumerate() {
+        let out = format!("run{i}");
+        let (header, rows) = run_repository_scene(dir.path(), scene, &out, extra);
+        let crossing = intersecting_frames(&dir.path().join(&out));
+        assert!(
+            crossing.is_empty(),
+            "{scene}: intersecting frames {crossing:?}"
+        );
+        assert!(
+            column(&header, &rows, "contact_pairs")
+                .iter()
+                .any(|c| c != "0"),
+            "{scene}: the bodies never came within d_hat"
+        );
+        for name in ["stalled_steps", "unconverged_steps"] {
+            assert_eq!(total(&header, &rows, name), 0, "{scene}: {name}");
+        }
+        let j = column(&header, &rows, "min_volume_ratio");
+        assert!(
+            j.iter().all(|j| j.parse::<f64>().unwrap() > 0.0),
+            "{scene}: J {j:?}"
+        );
+    }
+}
+
+#[test]
+fn a_soft_ring_folds_onto_itself_only_with_self_contact() {
+    let dir = tempfile::tempdir().unwrap();
+    let (header, rows) = run_repository_scene(dir.path(), "contact/ring-fold-2d.toml", "self", &[]);
+    assert!(intersecting_frames(&dir.path().join("self")).is_empty());
+    assert!(total(&header, &rows, "contact_pairs") > 0);
+    // Self-contact off: the ring is one body, so nothing keeps its inner
+    // surface from passing through itself.
+    let (header, rows) = run_repository_scene(
+        dir.path(),
+        "contact/ring-fold-2d.toml",
+        "no-self",
+        &["--set", "effects.contact.self=false"],
+    );
+    assert_eq!(total(&header, &rows, "contact_pairs"), 0);
+    assert!(!intersecting_frames(&dir.path().join("no-self")).is_empty());
+}
+
+/// The `contact_force` point data of a saved VTU file: one vector per vertex.
+fn contact_forces(vtu: &str) -> Vec<[f64; 3]> {
+    let start = vtu
+        .find("Name=\"contact_force\"")
+        .expect("a contact_force array");
+    let body = &vtu[start + vtu[start..].find('>').unwrap() + 1..];
+    let numbers: Vec<f64> = body[..body.find("</DataArray>").unwrap()]
+        .split_whitespace()
+        .map(|t| t.parse().unwrap())
+        .collect();
+    numbers.chunks(3).map(|c| [c[0], c[1], c[2]]).collect()
+}
+
+#[test]
+fn saved_meshes_carry_contact_forces_that_sum_to_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("boxes.toml");
+    std::fs::write(&path, TWO_BOXES_2D).unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "run",
+            path.to_str().unwrap(),
+            "--no-render",
+            "--save-meshes",
+            "-q",
+            "--out",
+            "o",
+        ],
+    );
+    assert_code(&o, 0);
+    let (header, rows) = read_csv(&dir.path().join("o/stats.csv"));
+    let pairs = column(&header, &rows, "contact_pairs");
+    let frame = pairs
+        .iter()
+        .position(|p| p != "0")
+        .expect("a frame in contact");
+    let vtu =
+        std::fs::read_to_string(dir.path().join(format!("o/meshes/frame_{frame:04}.vtu"))).unwrap();
+    let forces = contact_forces(&vtu);
+    // 4 x 7 + 7 x 4 vertices: the lower box's first.
+    assert_eq!(forces.len(), 28 + 16);
+    let largest = forces.iter().map(|f| f[0].hypot(f[1])).fold(0.0, f64::max);
+    assert!(largest > 0.0, "no contact force at frame {frame}");
+    // The barrier depends on differences of positions only: the forces on
+    // the two bodies are equal and opposite (Newton's third law), and the
+    // upper box is pushed up.
+    let sum = |range: std::ops::Range<usize>| {
+        forces[range]
+            .iter()
+            .fold([0.0, 0.0], |s, f| [s[0] + f[0], s[1] + f[1]])
+    };
+    let (lower, upper) = (sum(0..28), sum(28..44));
+    for k in 0..2 {
+        assert!(
+            (lower[k] + upper[k]).abs() <= 1e-9 * largest,
+            "{lower:?} {upper:?}"
+        );
+    }
+    assert!(upper[1] > 0.0, "{upper:?}");
+    // Vertices away from the contact carry none.
+    assert!(forces.iter().filter(|f| f[0] == 0.0 && f[1] == 0.0).count() > 20);
+    // A scene without contact writes no such array.
+    let vtu = std::fs::read_to_string(dir.path().join("o/meshes/frame_0000.vtu")).unwrap();
+    assert!(vtu.contains("contact_force"));
+    std::fs::write(&path, without_contact(TWO_BOXES_2D)).unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "run",
+            path.to_str().unwrap(),
+            "--no-render",
+            "--save-meshes",
+            "-q",
+            "--out",
+            "n",
+            "--frames",
+            "2",
+        ],
+    );
+    assert_code(&o, 0);
+    let vtu = std::fs::read_to_string(dir.path().join("n/meshes/frame_0001.vtu")).unwrap();
+    assert!(!vtu.contains("contact_force"));
 }

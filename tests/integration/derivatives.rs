@@ -5,7 +5,10 @@
 
 use crate::support::*;
 use elasto::assembly::SparseHessian;
-use elasto::energy::{Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
+use elasto::contact::CollisionMesh;
+use elasto::energy::{
+    ContactBarrier, ContactSettings, Elasticity, EnergyTerm, Gravity, GroundBarrier, Inertia,
+};
 use elasto::material::{
     FixedCorotated, HyperelasticMaterial, NeoHookean, StVenantKirchhoff, StableNeoHookean,
 };
@@ -28,6 +31,7 @@ both_dimensions! {
     every_material_is_stress_free_at_rest => rest_stability_2d, rest_stability_3d;
     stable_neo_hookean_energy_is_finite_when_inverted => stable_neo_hookean_inverted_2d, stable_neo_hookean_inverted_3d;
     svd_frame_blocks_match_the_rotated_stress_derivative => svd_frame_blocks_2d, svd_frame_blocks_3d;
+    contact_barrier_gradient_matches_finite_differences => contact_barrier_2d, contact_barrier_3d;
 }
 
 fn for_each_material<const D: usize>(mut check: impl FnMut(&str, &dyn HyperelasticMaterial<D>)) {
@@ -494,4 +498,60 @@ fn inertia_gravity_barrier_match_finite_differences<const D: usize>() {
             assert!(err < TOLERANCE, "{name} {D}D: Hessian rel. error {err:e}");
         }
     }
+}
+
+/// The contact barrier of two perturbed boxes, one just above the other
+/// (gaps below `d_hat`): its gradient against central differences of its
+/// value, and its assembled Hessian symmetric positive semi-definite
+/// (it is projected per stencil, so it is not the exact one).
+fn contact_barrier_gradient_matches_finite_differences<const D: usize>() {
+    let mut rng = Rng::new(17);
+    let lower = unit_box::<D>();
+    let n = lower.vertex_count();
+    let lift = Vector::<D>::from_fn(|k, _| if k == 1 { 1.004 } else { 0.3 });
+    let rest: Vec<Vector<D>> = lower
+        .rest_positions()
+        .iter()
+        .copied()
+        .chain(lower.rest_positions().iter().map(|p| p + lift))
+        .collect();
+    let simplices = lower
+        .simplices()
+        .map(<[usize]>::to_vec)
+        .chain(lower.simplices().map(|s| s.iter().map(|v| v + n).collect()))
+        .collect();
+    let mesh = Mesh::new(rest.clone(), simplices).unwrap();
+    let owner: Vec<usize> = (0..2 * n).map(|v| v / n).collect();
+    let x = perturbed(&rest, 0.001, &mut rng);
+    let settings = ContactSettings {
+        activation_distance: 0.01,
+        stiffness: Some(1e6),
+        self_contact: true,
+    };
+    let mut term = ContactBarrier::new(
+        CollisionMesh::new(&mesh, &owner),
+        settings,
+        &vec![1.0; 2 * n],
+        2.0,
+        &x,
+    );
+    term.begin_iteration(&x);
+    assert!(
+        term.value(&x) > 0.0,
+        "the test state must exercise the barrier"
+    );
+    let analytic = analytic_gradient(&term, &x);
+    let fd = finite_difference_gradient(&term, &x, 1e-8);
+    let err = max_relative_error(&analytic, &fd);
+    assert!(err < 1e-5, "contact {D}D: gradient rel. error {err:e}");
+    let mut pairs = Vec::new();
+    term.coupled_pairs(&mut pairs);
+    let mut hessian = SparseHessian::new(&mesh, (0..2 * n).map(Some).collect()).unwrap();
+    assert!(hessian.include_pairs(pairs).unwrap());
+    term.add_hessian(&x, 1.0, &mut hessian);
+    let dense = hessian.to_dense();
+    let eigen = dense.clone().symmetric_eigen();
+    let largest = eigen.eigenvalues.amax();
+    assert!(largest > 0.0);
+    assert!(eigen.eigenvalues.iter().all(|&l| l >= -1e-9 * largest));
 }

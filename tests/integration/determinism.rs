@@ -99,3 +99,81 @@ fn a_step_called_from_outside_the_pool_gives_the_same_positions() {
             .all(|(x, y)| x.to_bits() == y.to_bits())
     }));
 }
+
+/// Steps of a box dropped onto a wider one (3D, contact on) until many
+/// stencils are active (above the contact term's parallel threshold),
+/// on a pool of `threads`.
+fn contact_run(threads: usize) -> (Vec<Vector<3>>, usize) {
+    use elasto::sim::{Body, Contact};
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let block = |low: Vector<3>, size: Vector<3>, cells: [usize; 3]| {
+            Mesh::axis_aligned_box(low, low + size, cells).unwrap()
+        };
+        let lower = block(
+            Vector::<3>::new(0.0, 0.05, 0.0),
+            Vector::<3>::new(1.0, 0.3, 1.0),
+            [8, 2, 8],
+        );
+        let upper = block(
+            Vector::<3>::new(0.1, 0.37, 0.1),
+            Vector::<3>::new(0.8, 0.3, 0.8),
+            [6, 2, 6],
+        );
+        let body = |mesh: Mesh<3>, velocity: Vector<3>| Body {
+            mesh,
+            material: neo_hookean(),
+            density: 1.0,
+            velocity,
+            pinned: None,
+        };
+        let effects = Effects {
+            gravity: Some(Vector::<3>::new(0.0, -9.81, 0.0)),
+            ground: Some(Ground {
+                height: 0.0,
+                activation_distance: 0.02,
+                stiffness: None,
+            }),
+            contact: Some(Contact {
+                distance: Some(0.005),
+                stiffness: None,
+                self_contact: true,
+            }),
+            pinned: Vec::new(),
+        };
+        let mut sim = Simulation::with_bodies(
+            vec![
+                body(lower, Vector::<3>::zeros()),
+                body(upper, Vector::<3>::new(0.0, -1.0, 0.0)),
+            ],
+            effects,
+            SimulationSettings {
+                dt: 0.01,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let mut most_pairs = 0;
+        for _ in 0..6 {
+            let frame = sim.advance_frame(1).unwrap();
+            most_pairs = most_pairs.max(frame.contact.unwrap().active_pairs);
+        }
+        (sim.positions().to_vec(), most_pairs)
+    })
+}
+
+#[test]
+fn one_and_two_threads_give_identical_positions_with_contact() {
+    let (one, pairs) = contact_run(1);
+    let (two, _) = contact_run(2);
+    // The contact term computes its stencils' derivatives in parallel from 64 on.
+    assert!(pairs >= 64, "only {pairs} stencils were active");
+    assert!(one.iter().zip(&two).all(|(a, b)| {
+        a.iter()
+            .zip(b.iter())
+            .all(|(x, y)| x.to_bits() == y.to_bits())
+    }));
+}

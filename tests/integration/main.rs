@@ -15,8 +15,12 @@
 #[macro_use]
 mod support;
 mod cli_common;
+// The independent intersection check of saved surfaces (its own tests
+// allocate, so it stays out of `support`, which tests/allocations.rs shares).
 #[cfg(unix)]
 mod fake_ffmpeg;
+#[path = "support/intersection.rs"]
+mod intersection;
 mod render_support;
 
 mod analytic;

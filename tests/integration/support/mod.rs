@@ -15,8 +15,6 @@ macro_rules! both_dimensions {
     )*};
 }
 
-pub mod intersection;
-
 use elasto::material::{
     FixedCorotated, LameParameters, Material, NeoHookean, StVenantKirchhoff, StableNeoHookean,
     YoungPoisson,
