@@ -5,8 +5,8 @@
 //! Run with `cargo bench --bench default_run`. The two runs alternate, so
 //! that a slower spell of a shared machine hits both; each row is the median
 //! wall time over the runs (`ELASTO_BENCH_RUNS`, default 7), and the ratio
-//! is that of the medians. The default videos (APNG and MP4, when ffmpeg is
-//! on `PATH`) and the PNG frames alone are timed too. Each variant re-runs
+//! is that of the medians. The default videos (APNG and MP4) and the PNG
+//! frames alone are timed too. Each variant re-runs
 //! into a folder of its own with `--force`, as a user re-renders a scene
 //! (its frames reuse the files of its previous run). The rendering runs
 //! also print `--profile`'s cores busy over the rendering after the

@@ -38,7 +38,7 @@ pub enum AppError {
         /// What is wrong.
         reason: String,
     },
-    /// The requested video format is not available here (e.g. MP4 without ffmpeg).
+    /// The requested video cannot be written (e.g. MP4 frames over 3840x2160).
     #[error("--video {choice} is not available")]
     Video {
         /// The flag value.

@@ -65,7 +65,7 @@ pub struct RunArgs {
     /// iteration cap or stalled, inverted elements, a vertex on the ground).
     #[arg(long)]
     pub strict: bool,
-    /// Video to write besides the PNG frames: auto = APNG, plus MP4 when ffmpeg is available.
+    /// Video to write besides the PNG frames: auto = APNG and MP4.
     #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
     pub video: VideoChoice,
     /// At the end, print where the time went per frame: a table of solver and rendering
@@ -213,7 +213,7 @@ pub struct SweepArgs {
     /// Only simulate: each run writes scene.toml and stats.csv, no images (no contact sheet).
     #[arg(long)]
     pub no_render: bool,
-    /// Video of each run and of the comparison: auto = APNG, plus MP4 when ffmpeg is available.
+    /// Video of each run and of the comparison: auto = APNG and MP4.
     #[arg(long, value_enum, default_value_t = VideoChoice::Auto)]
     pub video: VideoChoice,
     /// A run whose health summary reports a problem fails (like `elasto run --strict`).
@@ -249,13 +249,13 @@ pub enum StudyClock {
 /// The `--video` choices.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum VideoChoice {
-    /// APNG always, plus MP4 when ffmpeg with libx264 is on PATH.
+    /// APNG and MP4 (video.png and video.mp4).
     Auto,
     /// No video, PNG frames only.
     None,
     /// Animated PNG (video.png).
     Apng,
-    /// H.264 MP4 through ffmpeg (video.mp4); an error when ffmpeg is missing.
+    /// H.264 MP4 (video.mp4), encoded in the process: no ffmpeg needed.
     Mp4,
     /// Animated GIF (video.gif).
     Gif,

@@ -3,8 +3,8 @@
 //!
 //! The CPU time is the process's (`CLOCK_PROCESS_CPUTIME_ID`): summed over
 //! all its threads — the simulation, the drawing thread, the PNG and video
-//! encoders, and a software rasteriser's own threads (llvmpipe runs in the
-//! process). A child process such as ffmpeg is not counted. Over a stretch
+//! encoders (the MP4's H.264 encoder included), and a software rasteriser's
+//! own threads (llvmpipe runs in the process). Over a stretch
 //! of wall time `w` with CPU time `c`, `c / w` cores were busy on average;
 //! on a machine of `n` cores, `n − c / w` stood idle.
 

@@ -45,7 +45,15 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         Vec::new()
     } else {
         check_render_devices()?;
-        videos(args.video)?
+        let videos = videos(args.video);
+        let size = scene.render();
+        check_video_support(&videos, size.width, size.height).map_err(|source| {
+            AppError::Video {
+                choice: format!("{:?}", args.video).to_lowercase(),
+                source,
+            }
+        })?;
+        videos
     };
     let out = args
         .out
@@ -103,23 +111,15 @@ pub(super) fn check_render_devices() -> Result<(), AppError> {
         })
 }
 
-/// The videos to write; a format this machine cannot write is an error
-/// before any work (`auto` only adds MP4 when it can be written).
-pub(super) fn videos(choice: VideoChoice) -> Result<Vec<VideoFormat>, AppError> {
-    let videos = match choice {
-        VideoChoice::Auto if check_video_support(&[VideoFormat::Mp4]).is_ok() => {
-            vec![VideoFormat::Apng, VideoFormat::Mp4]
-        }
-        VideoChoice::Auto | VideoChoice::Apng => vec![VideoFormat::Apng],
+/// The videos to write: `auto` is APNG and MP4.
+pub(super) fn videos(choice: VideoChoice) -> Vec<VideoFormat> {
+    match choice {
+        VideoChoice::Auto => vec![VideoFormat::Apng, VideoFormat::Mp4],
+        VideoChoice::Apng => vec![VideoFormat::Apng],
         VideoChoice::None => Vec::new(),
         VideoChoice::Gif => vec![VideoFormat::Gif],
         VideoChoice::Mp4 => vec![VideoFormat::Mp4],
-    };
-    check_video_support(&videos).map_err(|source| AppError::Video {
-        choice: format!("{choice:?}").to_lowercase(),
-        source,
-    })?;
-    Ok(videos)
+    }
 }
 
 impl Plan {

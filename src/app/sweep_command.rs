@@ -157,7 +157,7 @@ impl SweepPlan {
         let render = !args.no_render;
         let videos = if render {
             check_render_devices()?;
-            videos(args.video)?
+            videos(args.video)
         } else {
             Vec::new()
         };

@@ -1,22 +1,26 @@
 //! Output files of a run: frame names, PNG images written atomically, and the
-//! check that the requested videos can be written.
+//! check that the requested videos can be written at the run's image size.
 
 use super::frame_image::FrameImage;
 use super::frame_png::FramePngWriter;
-use super::mp4_writer::check_h264;
-use super::{RenderError, VideoFormat};
+use super::{RenderError, VideoFormat, mp4_writer, video};
 use image::RgbaImage;
 use std::path::Path;
 
-/// Checks, before any simulation, that the requested videos can be written:
-/// MP4 needs `ffmpeg` with libx264 on `PATH` (asked with a bounded wait) and
-/// a valid `ELASTO_FFMPEG_TIMEOUT_SECS` when set. APNG and GIF always can.
-pub fn check_video_support(videos: &[VideoFormat]) -> Result<(), RenderError> {
+/// Checks, before any simulation, that the requested videos can be written
+/// with frames of `width` x `height` pixels: MP4's H.264 encoder takes at
+/// most 3840x2160 (either way up). APNG and GIF take every size a frame can
+/// have.
+pub fn check_video_support(
+    videos: &[VideoFormat],
+    width: u32,
+    height: u32,
+) -> Result<(), RenderError> {
     if videos.contains(&VideoFormat::Mp4) {
-        check_h264()
-    } else {
-        Ok(())
+        let name = std::path::Path::new(video::file_name(VideoFormat::Mp4));
+        mp4_writer::check_size(name, width, height)?;
     }
+    Ok(())
 }
 
 /// The file name of frame `index` in a run of `frame_count` frames:

@@ -23,8 +23,8 @@
 //! converts only the band of rows `[y0 − y0 mod 2, y1 + y1 mod 2)` around
 //! its patch's rows `[y0, y1)`: its planes are the base's rows above the
 //! band, the band, the base's rows below, for `Y`, then `Cb`, then `Cr`.
-//! Handing those pieces to the encoder's pipe moves 1.5 bytes per pixel
-//! instead of the 4 of RGBA, and leaves ffmpeg no conversion to do.
+//! The MP4 writer joins those pieces into the one I420 buffer the H.264
+//! encoder takes.
 
 use super::frame_image::{FrameBase, FrameImage};
 use std::ops::Range;

@@ -66,7 +66,6 @@ pub use export::{check_video_support, frame_file_name, write_frame_png, write_pn
 pub use frame_image::FrameImage;
 pub use gpu::{adapter_description, max_image_size};
 pub use image_video::write_image_video;
-pub use mp4_writer::FFMPEG_TIMEOUT_VARIABLE;
 pub(crate) use partial_file::keep_as_spare;
 pub use partial_file::{SpareFiles, remove_partial_files};
 pub use renderer::{FrameTimings, PreparedRenderer, Renderer};
@@ -198,7 +197,7 @@ impl Default for RenderSettings {
 pub enum VideoFormat {
     /// Animated PNG (`video.png`), always available.
     Apng,
-    /// H.264 MP4 through ffmpeg (`video.mp4`).
+    /// H.264 MP4 (`video.mp4`), encoded in the process (OpenH264).
     Mp4,
     /// Animated GIF (`video.gif`).
     Gif,
@@ -282,48 +281,7 @@ pub enum RenderError {
         /// What the encoder reported.
         message: String,
     },
-    /// MP4 output was asked for but ffmpeg is not on PATH.
-    #[error(
-        "mp4 video needs ffmpeg, which was not found on PATH; install it (e.g. `apt-get install \
-         ffmpeg`) or ask for apng or gif video instead"
-    )]
-    FfmpegMissing,
-    /// ffmpeg exists but cannot encode H.264.
-    #[error("mp4 video needs ffmpeg with the libx264 encoder, which this ffmpeg lacks")]
-    FfmpegWithoutH264,
-    /// `ELASTO_FFMPEG_TIMEOUT_SECS` is not a positive number of seconds.
-    #[error(
-        "ELASTO_FFMPEG_TIMEOUT_SECS must be a positive number of seconds (how long ffmpeg may \
-         go without progress), got `{value}`"
-    )]
-    FfmpegTimeoutSetting {
-        /// The variable's value.
-        value: String,
-    },
-    /// ffmpeg made no progress for the ffmpeg timeout and was stopped.
-    #[error(
-        "ffmpeg {what} for {} s while writing {}; it was stopped (ELASTO_FFMPEG_TIMEOUT_SECS \
-         sets this limit)",
-        timeout.as_secs_f64(),
-        path.display()
-    )]
-    FfmpegStalled {
-        /// The video being written.
-        path: PathBuf,
-        /// What ffmpeg failed to do, e.g. "read no frame".
-        what: &'static str,
-        /// The limit it exceeded.
-        timeout: std::time::Duration,
-    },
     /// The run is being interrupted (SIGINT or SIGTERM): no new file is started.
     #[error("interrupted")]
     Interrupted,
-    /// ffmpeg failed while writing the video.
-    #[error("ffmpeg failed writing {}: {message}", path.display())]
-    Ffmpeg {
-        /// The video being written.
-        path: PathBuf,
-        /// ffmpeg's exit status and error output.
-        message: String,
-    },
 }

@@ -1,408 +1,348 @@
-//! [`Mp4Writer`]: H.264 MP4 through an `ffmpeg` child process fed raw
-//! YUV 4:2:0 frames on its stdin, which never waits on ffmpeg forever.
+//! [`Mp4Writer`]: H.264 MP4 encoded in the process, so `--video mp4` works
+//! on every machine, a cluster node without ffmpeg included.
 //!
-//! The frames are converted to yuv420p with BT.709 colours in limited range,
-//! dimensions padded to even numbers with the background colour, here
-//! (`frame_yuv`: only the rows a frame changes are converted, and the pipe
-//! carries 1.5 bytes per pixel instead of 4). ffmpeg encodes them with
-//! libx264 as they come ([`ffmpeg_arguments`]), tagged BT.709 and limited
-//! range, into the video's hidden temporary file. It runs in a process group of its
-//! own, registered with the run's partial files, so an interrupt kills it
-//! before removing that file (see `partial_file.rs`).
+//! **Why these crates.** Video used to go to an `ffmpeg` child process,
+//! which a fresh machine does not have (and whose stalls needed timeouts,
+//! process groups and a feeder thread). Now:
 //!
-//! A pipe to a process that stops reading blocks its writer forever, so
-//! frames go to ffmpeg's stdin from a feeder thread and the video thread
-//! waits for each frame to be taken for at most the **ffmpeg timeout**:
-//! `ELASTO_FFMPEG_TIMEOUT_SECS` seconds (default 60; any positive number).
-//! After the last frame, ffmpeg may take as long as it needs to finish as
-//! long as the video file keeps changing, but no longer than the timeout
-//! without a change. The `-encoders` probe before the run is bounded by the
-//! same timeout. An ffmpeg that stalls is killed with its process group and
-//! the run fails naming the limit; the sequence writer then removes the
-//! partial video.
+//! - [`openh264`] encodes: Cisco's OpenH264 encoder (BSD-2-Clause), built
+//!   from the source bundled in the `openh264-sys2` crate with the C++
+//!   compiler that Rust's own linking already needs, so there is nothing to
+//!   install and nothing loaded at run time. It writes the constrained
+//!   baseline profile, which every player decodes. (Cisco's patent licence
+//!   covers Cisco's own binaries, not builds from source; see the README.)
+//! - [`mp4`] muxes: a small pure-Rust ISO-BMFF writer that streams the
+//!   samples into `mdat` as they come and writes `moov` at the end, so a long
+//!   run holds no more than one frame (the `muxide` crate, also considered,
+//!   keeps every sample in memory until it finishes).
+//!
+//! **The frames.** `frame_yuv` converts each frame to YUV 4:2:0 with BT.709
+//! colours in limited range, dimensions padded to even numbers with the
+//! background colour (only the rows a frame changes are converted); the SPS
+//! is tagged BT.709, limited range, so players invert exactly that. The
+//! encoder runs on one thread, with frame skipping off, a key frame every
+//! two seconds, and a bit rate of [`BITS_PER_PIXEL`] per pixel per frame:
+//! the same frames give the same bytes, and every frame is one sample.
+//!
+//! **The file.** Samples are length-prefixed NAL units (`avc1`); the
+//! parameter sets go into the `avcC` box, not into the samples. Sample
+//! times are exact: the frame duration is the fraction of a second
+//! closest to `1 / fps` (the APNG's [`frame_delay`]), in a track time scale
+//! of at least 10000 ticks per second. The MP4 is written to the video's
+//! hidden temporary file; the sequence writer publishes it only when the
+//! whole run succeeded, and an interrupt removes it (`partial_file.rs`).
 
 use super::RenderError;
 use super::frame_image::FrameImage;
 use super::frame_yuv::{Yuv420Frames, padded_size};
-use super::partial_file::{PartialFile, SpawnError, kill_and_reap, spawn_process, try_reap};
-use super::video::{VideoSpec, VideoWriter};
-use crossbeam_channel::{Receiver, RecvTimeoutError, Sender, bounded};
-use std::ffi::OsString;
-use std::io::{Read, Write};
+use super::partial_file::PartialFile;
+use super::video::{VideoSpec, VideoWriter, frame_delay};
+use openh264::OpenH264API;
+use openh264::encoder::{
+    BitRate, EncodedBitStream, Encoder, EncoderConfig, FrameRate, IntraFramePeriod,
+    RateControlMode, UsageType, VuiConfig,
+};
+use openh264::formats::YUVSlices;
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, ExitStatus, Stdio};
-use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::sync::Arc;
 
-/// The environment variable that sets the ffmpeg timeout, in seconds.
-pub const FFMPEG_TIMEOUT_VARIABLE: &str = "ELASTO_FFMPEG_TIMEOUT_SECS";
+/// The largest frame the encoder takes (either way up): OpenH264 stops at
+/// H.264 level 5.2.
+pub(crate) const MAX_SIZE: (u32, u32) = (3840, 2160);
 
-/// The ffmpeg timeout without [`FFMPEG_TIMEOUT_VARIABLE`].
-const DEFAULT_TIMEOUT: Duration = Duration::from_secs(60);
+/// The bit rate's share per pixel and frame. The frames are flat colours
+/// with sharp edges and text; at 0.25 bit per pixel (1.7 Mbit/s for 640x360
+/// at 30 fps) edges and the legend's text stay sharp.
+const BITS_PER_PIXEL: f64 = 0.25;
 
-/// How often a wait for ffmpeg looks at the process and the video file.
-const POLL: Duration = Duration::from_millis(20);
+/// Seconds between key frames (players seek to them).
+const KEY_FRAME_SECONDS: f64 = 2.0;
 
-/// How long to wait for ffmpeg's output once it has exited (its pipe closes
-/// with it unless something it started keeps it open).
-const OUTPUT_GRACE: Duration = Duration::from_secs(2);
+/// The `moov` time scale (ticks per second of the whole movie).
+const MOVIE_TIMESCALE: u32 = 1000;
 
-/// How long ffmpeg may go without progress: [`FFMPEG_TIMEOUT_VARIABLE`] in
-/// seconds when it is set and not empty, else 60 s.
-pub(crate) fn ffmpeg_timeout() -> Result<Duration, RenderError> {
-    parse_timeout(std::env::var_os(FFMPEG_TIMEOUT_VARIABLE).as_deref())
-}
+/// The MP4's track: the only one.
+const TRACK: u32 = 1;
 
-/// The ffmpeg timeout for the variable's value.
-fn parse_timeout(value: Option<&std::ffi::OsStr>) -> Result<Duration, RenderError> {
-    let Some(value) = value else {
-        return Ok(DEFAULT_TIMEOUT);
-    };
-    let text = value.to_string_lossy();
-    if text.trim().is_empty() {
-        return Ok(DEFAULT_TIMEOUT);
+/// Checks that frames of `width` x `height` can be encoded into the MP4 at
+/// `path` (after padding to even numbers).
+pub(crate) fn check_size(path: &Path, width: u32, height: u32) -> Result<(), RenderError> {
+    let (w, h) = padded_size((width, height));
+    let (long, short) = MAX_SIZE;
+    if w.max(h) > long || w.min(h) > short {
+        return Err(RenderError::Encode {
+            path: path.to_owned(),
+            message: format!(
+                "{width}x{height} pixels is larger than the H.264 encoder takes \
+                 ({long}x{short}, or {short}x{long}); choose a smaller resolution, \
+                 or apng or gif video"
+            ),
+        });
     }
-    text.trim()
-        .parse::<f64>()
-        .ok()
-        .filter(|&seconds| seconds > 0.0)
-        .and_then(|seconds| Duration::try_from_secs_f64(seconds).ok())
-        .ok_or_else(|| RenderError::FfmpegTimeoutSetting {
-            value: text.into_owned(),
-        })
-}
-
-/// The `PATH` under which ffmpeg last listed libx264: a run asks up to three
-/// times (choosing its videos, validating them, opening the writer), and
-/// each `ffmpeg -encoders` costs about 0.1 s before anything is drawn.
-static H264_FOUND_ON_PATH: Mutex<Option<Option<OsString>>> = Mutex::new(None);
-
-/// Checks that `ffmpeg` on `PATH` can encode H.264 (lists libx264 among its
-/// encoders), waiting for it at most the ffmpeg timeout. A success is
-/// remembered for the process as long as `PATH` stays the same.
-pub(crate) fn check_h264() -> Result<(), RenderError> {
-    let timeout = ffmpeg_timeout()?;
-    let path = std::env::var_os("PATH");
-    let mut found = H264_FOUND_ON_PATH
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if found.as_ref() == Some(&path) {
-        return Ok(());
-    }
-    list_h264(timeout)?;
-    *found = Some(path);
     Ok(())
 }
 
-/// Runs `ffmpeg -encoders` and looks for libx264.
-fn list_h264(timeout: Duration) -> Result<(), RenderError> {
-    let failed = |message: String| RenderError::Ffmpeg {
-        path: "video.mp4".into(),
-        message,
-    };
-    let mut command = Command::new("ffmpeg");
-    command
-        .args(["-hide_banner", "-encoders"])
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null());
-    let mut child = spawn_process(&mut command).map_err(|error| match error {
-        SpawnError::Interrupted => RenderError::Interrupted,
-        SpawnError::Io(e) if e.kind() == std::io::ErrorKind::NotFound => RenderError::FfmpegMissing,
-        SpawnError::Io(e) => failed(format!("cannot run ffmpeg: {e}")),
-    })?;
-    let stdout = read_on_thread(child.stdout.take());
-    let status = wait_with_timeout(&mut child, timeout, || None)
-        .map_err(|e| failed(format!("cannot wait for ffmpeg: {e}")))?;
-    if status.is_none() {
-        return Err(RenderError::FfmpegStalled {
-            path: "video.mp4".into(),
-            what: "did not list its encoders",
-            timeout,
-        });
-    }
-    let listing = stdout.recv_timeout(OUTPUT_GRACE).unwrap_or_default();
-    if listing.contains("libx264") {
-        Ok(())
-    } else {
-        Err(RenderError::FfmpegWithoutH264)
-    }
-}
-
-/// Writes `video.mp4` through ffmpeg.
+/// Writes `video.mp4` (see the module documentation).
 pub(crate) struct Mp4Writer {
     /// The final path, for messages.
     path: PathBuf,
-    /// The file ffmpeg writes.
-    temporary: PathBuf,
-    child: Child,
-    /// The feeder thread's queue (`None` once the input is closed).
-    input: Option<FrameFeeder>,
-    /// ffmpeg's error output, once it has closed it.
-    stderr: Receiver<String>,
-    timeout: Duration,
-    /// ffmpeg has exited (or was killed) and is reaped.
-    reaped: bool,
-}
-
-/// The queue to the thread that writes frames to ffmpeg's stdin, and its
-/// answers: one per frame, once the frame is written (or the write failed).
-struct FrameFeeder {
-    frames: Sender<Arc<FrameImage>>,
-    written: Receiver<std::io::Result<()>>,
-}
-
-impl FrameFeeder {
-    /// Starts the thread. It ends when the queue closes (then ffmpeg sees the
-    /// end of its input) or a write fails; it is never joined, so a write
-    /// that blocks forever cannot block anything else.
-    fn spawn(mut stdin: ChildStdin, mut planes: Yuv420Frames) -> Self {
-        let (frames, queue) = bounded::<Arc<FrameImage>>(1);
-        let (answer, written) = bounded(1);
-        std::thread::spawn(move || {
-            for frame in queue {
-                let mut result = Ok(());
-                planes.for_each_span(&frame, |span| {
-                    if result.is_ok() {
-                        result = stdin.write_all(span);
-                    }
-                });
-                let failed = result.is_err();
-                if answer.send(result).is_err() || failed {
-                    break;
-                }
-            }
-        });
-        Self { frames, written }
-    }
-}
-
-/// The ffmpeg arguments for `spec`, reading yuv420p frames of the size
-/// padded to even numbers and writing MP4 to `output`.
-pub(crate) fn ffmpeg_arguments(spec: &VideoSpec<'_>, output: &Path) -> Vec<String> {
-    let mut args: Vec<String> = [
-        "-hide_banner",
-        "-loglevel",
-        "error",
-        "-nostdin",
-        "-y",
-        "-f",
-        "rawvideo",
-        "-pix_fmt",
-        "yuv420p",
-        "-s",
-    ]
-    .map(String::from)
-    .into();
-    let (width, height) = padded_size((spec.width, spec.height));
-    args.push(format!("{width}x{height}"));
-    args.push("-r".into());
-    args.push(format!("{}", spec.fps));
-    args.extend(
-        [
-            "-i", "-", "-c:v", "libx264", "-preset", "medium", "-crf", "18", "-pix_fmt", "yuv420p",
-        ]
-        .map(String::from),
-    );
-    args.extend(
-        [
-            "-color_range",
-            "tv",
-            "-colorspace",
-            "bt709",
-            "-color_primaries",
-            "bt709",
-            "-color_trc",
-            "bt709",
-            "-movflags",
-            "+faststart",
-            "-f",
-            "mp4",
-        ]
-        .map(String::from),
-    );
-    args.push(output.to_string_lossy().into_owned());
-    args
+    encoder: Encoder,
+    planes: Yuv420Frames,
+    /// The padded frame size.
+    size: (u32, u32),
+    /// The latest frame as one I420 buffer: Y, then Cb, then Cr.
+    i420: Vec<u8>,
+    muxer: mp4::Mp4Writer<BufWriter<File>>,
+    /// The first frame's SPS and PPS, once the track is added.
+    parameter_sets: Option<(Vec<u8>, Vec<u8>)>,
+    /// The latest frame's sample, length-prefixed NAL units.
+    sample: Vec<u8>,
+    /// The track's ticks per second and per frame.
+    timescale: u32,
+    frame_ticks: u32,
+    /// Frames written.
+    frames: u64,
 }
 
 impl Mp4Writer {
-    /// Starts ffmpeg writing the temporary file of `partial`.
+    /// Starts the MP4 in the temporary file of `partial`.
     pub fn new(spec: &VideoSpec<'_>, partial: &PartialFile) -> Result<Self, RenderError> {
-        let timeout = ffmpeg_timeout()?;
-        let mut command = Command::new("ffmpeg");
-        command
-            .args(ffmpeg_arguments(spec, partial.temporary()))
-            .stdin(Stdio::piped())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped());
-        let mut child = spawn_process(&mut command).map_err(|error| match error {
-            SpawnError::Interrupted => RenderError::Interrupted,
-            SpawnError::Io(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                RenderError::FfmpegMissing
-            }
-            SpawnError::Io(e) => RenderError::Ffmpeg {
-                path: spec.path.to_owned(),
-                message: format!("cannot start ffmpeg: {e}"),
-            },
-        })?;
-        let planes = Yuv420Frames::new((spec.width, spec.height), spec.background);
-        let input = child
-            .stdin
-            .take()
-            .map(|stdin| FrameFeeder::spawn(stdin, planes));
-        // Drain stderr on a thread so that a chatty ffmpeg never blocks on it.
-        let stderr = read_on_thread(child.stderr.take());
+        check_size(spec.path, spec.width, spec.height)?;
+        let size = padded_size((spec.width, spec.height));
+        let (numerator, denominator) = frame_delay(spec.fps);
+        let scale = 10_000u32.div_ceil(u32::from(denominator));
+        let key_frames = (KEY_FRAME_SECONDS * spec.fps).round().clamp(1.0, 1000.0) as u32;
+        // OpenH264 budgets bits per frame from its frame rate, which it
+        // clamps to 1..=60 frames per second.
+        let rate = spec.fps.clamp(1.0, 60.0);
+        let bitrate = (BITS_PER_PIXEL * f64::from(size.0) * f64::from(size.1) * rate) as u32;
+        let config = EncoderConfig::new()
+            // The encoder takes only the two real-time usages.
+            .usage_type(UsageType::CameraVideoRealTime)
+            .rate_control_mode(RateControlMode::Quality)
+            .bitrate(BitRate::from_bps(bitrate))
+            .max_frame_rate(FrameRate::from_hz(rate as f32))
+            .skip_frames(false)
+            .num_threads(1)
+            .intra_frame_period(IntraFramePeriod::from_num_frames(key_frames))
+            .vui(VuiConfig::bt709());
+        let encoder = Encoder::with_api_config(OpenH264API::from_source(), config)
+            .map_err(|e| encode_error(spec.path, format!("cannot start the H.264 encoder: {e}")))?;
+        let file = BufWriter::with_capacity(1 << 20, partial.create()?);
+        let brand = |name: &[u8; 4]| mp4::FourCC::from(*name);
+        let movie = mp4::Mp4Config {
+            major_brand: brand(b"isom"),
+            minor_version: 512,
+            compatible_brands: vec![
+                brand(b"isom"),
+                brand(b"iso2"),
+                brand(b"avc1"),
+                brand(b"mp41"),
+            ],
+            timescale: MOVIE_TIMESCALE,
+        };
+        let muxer =
+            mp4::Mp4Writer::write_start(file, &movie).map_err(|e| mp4_error(spec.path, e))?;
         Ok(Self {
             path: spec.path.to_owned(),
-            temporary: partial.temporary().to_owned(),
-            child,
-            input,
-            stderr,
-            timeout,
-            reaped: false,
+            encoder,
+            planes: Yuv420Frames::new((spec.width, spec.height), spec.background),
+            size,
+            i420: Vec::new(),
+            muxer,
+            parameter_sets: None,
+            sample: Vec::new(),
+            timescale: u32::from(denominator) * scale,
+            frame_ticks: u32::from(numerator) * scale,
+            frames: 0,
         })
     }
 
-    /// Closes ffmpeg's input and waits for it to finish while the video file
-    /// keeps changing; turns a failure into an error with its output.
-    fn wait(&mut self) -> Result<(), RenderError> {
-        self.input = None;
-        let temporary = self.temporary.clone();
-        let mut last_size = None;
-        let progress = move || {
-            let size = std::fs::metadata(&temporary).ok().map(|m| m.len());
-            let changed = size != last_size;
-            last_size = size;
-            changed.then_some(())
+    /// Adds the track, described by the first frame's parameter sets.
+    fn add_track(&mut self, sps: Vec<u8>, pps: Vec<u8>) -> Result<(), RenderError> {
+        // avcC copies the profile and level from the SPS's bytes 1 to 3.
+        if sps.len() < 4 || pps.is_empty() {
+            return Err(encode_error(
+                &self.path,
+                format!(
+                    "the H.264 encoder wrote a {}-byte SPS and a {}-byte PPS",
+                    sps.len(),
+                    pps.len()
+                ),
+            ));
+        }
+        let avc = mp4::AvcConfig {
+            // At most 3840: `check_size`.
+            width: self.size.0 as u16,
+            height: self.size.1 as u16,
+            seq_param_set: sps.clone(),
+            pic_param_set: pps.clone(),
         };
-        let status = match wait_with_timeout(&mut self.child, self.timeout, progress) {
-            Ok(Some(status)) => status,
-            Ok(None) => return Err(self.stalled("made no progress finishing the video")),
-            Err(e) => {
-                self.kill();
-                return Err(RenderError::Ffmpeg {
-                    path: self.path.clone(),
-                    message: format!("cannot wait for ffmpeg: {e}"),
-                });
+        let track = mp4::TrackConfig {
+            track_type: mp4::TrackType::Video,
+            timescale: self.timescale,
+            language: "und".into(),
+            media_conf: mp4::MediaConfig::AvcConfig(avc),
+        };
+        self.muxer
+            .add_track(&track)
+            .map_err(|e| mp4_error(&self.path, e))?;
+        self.parameter_sets = Some((sps, pps));
+        Ok(())
+    }
+}
+
+/// What one encoded frame holds.
+struct EncodedFrame {
+    /// The SPS and PPS, when the encoder wrote them (with each key frame).
+    sps: Option<Vec<u8>>,
+    pps: Option<Vec<u8>>,
+    /// Holds an IDR slice: a key frame.
+    key: bool,
+}
+
+/// Appends the NAL units of `stream` other than the parameter sets to
+/// `sample`, each after its length as 4 bytes big-endian (the encoder writes
+/// them after Annex B start codes).
+fn to_sample(stream: &EncodedBitStream<'_>, sample: &mut Vec<u8>) -> EncodedFrame {
+    let mut frame = EncodedFrame {
+        sps: None,
+        pps: None,
+        key: false,
+    };
+    for layer in (0..stream.num_layers()).filter_map(|i| stream.layer(i)) {
+        for unit in (0..layer.nal_count()).filter_map(|i| layer.nal_unit(i)) {
+            let unit = strip_start_code(unit);
+            let Some(&header) = unit.first() else {
+                continue;
+            };
+            match header & 0x1f {
+                7 => frame.sps = Some(unit.to_vec()),
+                8 => frame.pps = Some(unit.to_vec()),
+                kind => {
+                    frame.key |= kind == 5;
+                    sample.extend_from_slice(&(unit.len() as u32).to_be_bytes());
+                    sample.extend_from_slice(unit);
+                }
             }
-        };
-        self.reaped = true;
-        let output = self.stderr.recv_timeout(OUTPUT_GRACE).unwrap_or_default();
-        if status.success() {
-            Ok(())
-        } else {
-            let output = output.trim();
-            Err(RenderError::Ffmpeg {
-                path: self.path.clone(),
-                message: if output.is_empty() {
-                    format!("{status}")
-                } else {
-                    format!("{status}: {output}")
-                },
-            })
         }
     }
+    frame
+}
 
-    /// Kills ffmpeg and its process group.
-    fn kill(&mut self) {
-        self.input = None;
-        if !self.reaped {
-            kill_and_reap(&mut self.child);
-            self.reaped = true;
-        }
-    }
-
-    /// Kills a stalled ffmpeg; the error says what it failed to do.
-    fn stalled(&mut self, what: &'static str) -> RenderError {
-        self.kill();
-        RenderError::FfmpegStalled {
-            path: self.path.clone(),
-            what,
-            timeout: self.timeout,
-        }
-    }
-
-    /// ffmpeg stopped taking frames: its exit status and output say why.
-    fn stopped_reading(&mut self, cause: String) -> RenderError {
-        match self.wait() {
-            Err(error) => error,
-            Ok(()) => RenderError::Ffmpeg {
-                path: self.path.clone(),
-                message: format!("ffmpeg stopped reading frames: {cause}"),
-            },
-        }
+/// `unit` without its Annex B start code (`00 00 01` or `00 00 00 01`).
+fn strip_start_code(unit: &[u8]) -> &[u8] {
+    let zeros = unit.iter().take_while(|&&b| b == 0).count();
+    if zeros >= 2 && unit.get(zeros) == Some(&1) {
+        &unit[zeros + 1..]
+    } else {
+        unit
     }
 }
 
 impl VideoWriter for Mp4Writer {
     fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
-        let Some(input) = self.input.as_ref() else {
-            return Err(RenderError::Ffmpeg {
-                path: self.path.clone(),
-                message: "ffmpeg input already closed".into(),
-            });
-        };
-        // The feeder is idle (every earlier frame was answered): this never waits.
-        if input.frames.send(frame.clone()).is_err() {
-            return Err(self.stopped_reading("its input is closed".into()));
+        let index = self.frames;
+        self.i420.clear();
+        self.planes
+            .for_each_span(frame, |span| self.i420.extend_from_slice(span));
+        let (width, height) = (self.size.0 as usize, self.size.1 as usize);
+        if self.i420.len() != width * height * 3 / 2 {
+            return Err(encode_error(
+                &self.path,
+                format!(
+                    "frame {index} has {} bytes of YUV 4:2:0, not {} for {width}x{height}",
+                    self.i420.len(),
+                    width * height * 3 / 2
+                ),
+            ));
         }
-        match input.written.recv_timeout(self.timeout) {
-            Ok(Ok(())) => Ok(()),
-            // ffmpeg quit early; its own message says why.
-            Ok(Err(e)) => Err(self.stopped_reading(e.to_string())),
-            Err(RecvTimeoutError::Disconnected) => {
-                Err(self.stopped_reading("its input is closed".into()))
+        let (luma, chroma) = self.i420.split_at(width * height);
+        let (cb, cr) = chroma.split_at(luma.len() / 4);
+        let source = YUVSlices::new(
+            (luma, cb, cr),
+            (width, height),
+            (width, width / 2, width / 2),
+        );
+        self.sample.clear();
+        let encoded = match self.encoder.encode(&source) {
+            Ok(stream) => to_sample(&stream, &mut self.sample),
+            Err(e) => {
+                return Err(encode_error(
+                    &self.path,
+                    format!("the H.264 encoder failed on frame {index}: {e}"),
+                ));
             }
-            Err(RecvTimeoutError::Timeout) => Err(self.stalled("read no frame")),
+        };
+        if self.sample.is_empty() {
+            return Err(encode_error(
+                &self.path,
+                format!("the H.264 encoder wrote nothing for frame {index}"),
+            ));
         }
+        match (&self.parameter_sets, encoded.sps, encoded.pps) {
+            (None, Some(sps), Some(pps)) => self.add_track(sps, pps)?,
+            (None, _, _) => {
+                return Err(encode_error(
+                    &self.path,
+                    "the H.264 encoder's first frame has no SPS and PPS".into(),
+                ));
+            }
+            // The parameter sets repeat with every key frame and must not change.
+            (Some((first_sps, first_pps)), sps, pps) => {
+                let changed = |now: &Option<Vec<u8>>, first: &Vec<u8>| {
+                    now.as_ref().is_some_and(|now| now != first)
+                };
+                if changed(&sps, first_sps) || changed(&pps, first_pps) {
+                    return Err(encode_error(
+                        &self.path,
+                        format!("the H.264 encoder changed its parameter sets at frame {index}"),
+                    ));
+                }
+            }
+        }
+        let sample = mp4::Mp4Sample {
+            start_time: index * u64::from(self.frame_ticks),
+            duration: self.frame_ticks,
+            rendering_offset: 0,
+            is_sync: encoded.key,
+            bytes: bytes::Bytes::copy_from_slice(&self.sample),
+        };
+        self.muxer
+            .write_sample(TRACK, &sample)
+            .map_err(|e| mp4_error(&self.path, e))?;
+        self.frames += 1;
+        Ok(())
     }
 
     fn finish(mut self: Box<Self>) -> Result<(), RenderError> {
-        self.wait()
+        self.muxer
+            .write_end()
+            .map_err(|e| mp4_error(&self.path, e))?;
+        let Self { path, muxer, .. } = *self;
+        muxer
+            .into_writer()
+            .flush()
+            .map_err(|source| RenderError::Io { path, source })
     }
 }
 
-impl Drop for Mp4Writer {
-    /// An abandoned encode: stop ffmpeg and reap it.
-    fn drop(&mut self) {
-        self.kill();
+fn encode_error(path: &Path, message: String) -> RenderError {
+    RenderError::Encode {
+        path: path.to_owned(),
+        message,
     }
 }
 
-/// Reads `pipe` to its end on a thread of its own; the text arrives on the
-/// returned channel (never, if something keeps the pipe open).
-fn read_on_thread(pipe: Option<impl Read + Send + 'static>) -> Receiver<String> {
-    let (sender, receiver) = bounded(1);
-    if let Some(mut pipe) = pipe {
-        std::thread::spawn(move || {
-            let mut text = String::new();
-            let _ = pipe.read_to_string(&mut text);
-            let _ = sender.send(text);
-        });
-    }
-    receiver
-}
-
-/// Waits for `child` to exit while `progress` reports changes (`Some`), and
-/// at most `timeout` since the start or the last change. `Ok(None)`: the
-/// child stalled and was killed.
-fn wait_with_timeout(
-    child: &mut Child,
-    timeout: Duration,
-    mut progress: impl FnMut() -> Option<()>,
-) -> std::io::Result<Option<ExitStatus>> {
-    let mut last_change = Instant::now();
-    loop {
-        if let Some(status) = try_reap(child)? {
-            return Ok(Some(status));
-        }
-        if progress().is_some() {
-            last_change = Instant::now();
-        } else if last_change.elapsed() >= timeout {
-            kill_and_reap(child);
-            return Ok(None);
-        }
-        std::thread::sleep(POLL.min(timeout));
+fn mp4_error(path: &Path, error: mp4::Error) -> RenderError {
+    match error {
+        mp4::Error::IoError(source) => RenderError::Io {
+            path: path.to_owned(),
+            source,
+        },
+        other => encode_error(path, format!("cannot write the MP4: {other}")),
     }
 }
 
@@ -411,71 +351,26 @@ mod tests {
     use super::*;
 
     #[test]
-    fn ffmpeg_reads_yuv420p_of_the_size_padded_to_even_numbers() {
-        let spec = VideoSpec {
-            path: Path::new("v.mp4"),
-            width: 101,
-            height: 61,
-            frame_count: 3,
-            fps: 25.0,
-            background: [245, 245, 250],
-        };
-        let args = ffmpeg_arguments(&spec, Path::new(".v.mp4.partial"));
-        let joined = args.join(" ");
-        assert!(
-            joined.contains("-f rawvideo -pix_fmt yuv420p -s 102x62 -r 25 -i -"),
-            "{joined}"
-        );
-        assert!(
-            joined.contains("-color_range tv -colorspace bt709"),
-            "{joined}"
-        );
-        assert!(
-            joined.contains("-c:v libx264") && joined.contains("-pix_fmt yuv420p"),
-            "{joined}"
-        );
-        assert_eq!(args.last().unwrap(), ".v.mp4.partial");
+    fn start_codes_of_three_and_four_bytes_are_stripped() {
+        assert_eq!(strip_start_code(&[0, 0, 0, 1, 0x67, 9]), [0x67, 9]);
+        assert_eq!(strip_start_code(&[0, 0, 1, 0x68]), [0x68]);
+        // Not a start code: left alone.
+        assert_eq!(strip_start_code(&[0, 1, 0x65]), [0, 1, 0x65]);
+        assert_eq!(strip_start_code(&[0x41, 0, 0, 1]), [0x41, 0, 0, 1]);
     }
 
     #[test]
-    fn a_child_without_progress_is_killed_after_the_timeout() {
-        let mut command = Command::new("sleep");
-        command.arg("30");
-        let mut child = spawn_process(&mut command).unwrap();
-        let start = Instant::now();
-        let status = wait_with_timeout(&mut child, Duration::from_millis(200), || None).unwrap();
-        assert_eq!(status, None);
-        let waited = start.elapsed();
-        assert!(waited >= Duration::from_millis(200), "{waited:?}");
-        assert!(waited < Duration::from_secs(5), "{waited:?}");
-        // Killed and reaped.
-        assert!(child.try_wait().unwrap().is_some());
-    }
-
-    #[test]
-    fn the_timeout_is_a_positive_number_of_seconds() {
-        let parse = |text: &str| parse_timeout(Some(std::ffi::OsStr::new(text)));
-        assert_eq!(parse_timeout(None).unwrap(), Duration::from_secs(60));
-        assert_eq!(parse("").unwrap(), Duration::from_secs(60));
-        assert_eq!(parse("2").unwrap(), Duration::from_secs(2));
-        assert_eq!(parse(" 0.25 ").unwrap(), Duration::from_millis(250));
-        for bad in ["0", "-1", "abc", "NaN", "inf", "1e300"] {
-            let error = parse(bad).unwrap_err().to_string();
+    fn frames_up_to_3840x2160_either_way_up_can_be_encoded() {
+        let path = Path::new("out/video.mp4");
+        for (w, h) in [(3840, 2160), (2160, 3840), (3839, 2159), (1, 1)] {
+            check_size(path, w, h).unwrap();
+        }
+        for (w, h) in [(3841, 100), (100, 3841), (2400, 2400)] {
+            let error = check_size(path, w, h).unwrap_err().to_string();
             assert!(
-                error.contains("ELASTO_FFMPEG_TIMEOUT_SECS") && error.contains(bad),
-                "{bad}: {error}"
+                error.contains("out/video.mp4") && error.contains(&format!("{w}x{h}")),
+                "{error}"
             );
         }
-    }
-
-    #[test]
-    fn a_child_that_exits_is_reaped_with_its_status() {
-        let mut command = Command::new("sh");
-        command.args(["-c", "exit 3"]);
-        let mut child = spawn_process(&mut command).unwrap();
-        let status = wait_with_timeout(&mut child, Duration::from_secs(10), || None)
-            .unwrap()
-            .unwrap();
-        assert_eq!(status.code(), Some(3));
     }
 }

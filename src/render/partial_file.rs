@@ -6,15 +6,15 @@
 //! final name and renamed once complete, so a file under a final name is
 //! always whole. A [`PartialFile`] removes its temporary when dropped
 //! unpublished (the run failed). A signal does not run destructors, so each
-//! partial file is also entered in a list, together with the encoder
-//! processes (ffmpeg) that write one; [`remove_partial_files`] kills those
-//! processes and removes those files, and the binary calls it on SIGINT and
-//! SIGTERM before exiting.
+//! partial file is also entered in a list; [`remove_partial_files`] removes
+//! those files, and the binary calls it on SIGINT and SIGTERM before
+//! exiting. (Every encoder runs in the process: there is no child process to
+//! stop.)
 //!
-//! Creating, publishing and removing a temporary, and starting or reaping an
-//! encoder, happen under the list's lock, and [`remove_partial_files`] closes
-//! the list for good: nothing can create a partial file after the cleanup has
-//! run, nor slip between its kills and its removals.
+//! Creating, publishing and removing a temporary happen under the list's
+//! lock, and [`remove_partial_files`] closes the list for good: nothing can
+//! create a partial file after the cleanup has run, nor slip between its
+//! removals.
 //!
 //! **Spare files.** A run with `--force` replaces an earlier run's frames.
 //! Deleting 300 files and creating 300 new ones is not free: on ext4
@@ -35,16 +35,13 @@ use super::image_file::{hidden_path, temporary_path};
 use std::fs::File;
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, ExitStatus};
 use std::sync::{Mutex, MutexGuard};
 
-/// The partial files and encoder processes alive in this process.
+/// The partial files alive in this process.
 #[derive(Default)]
 struct Registry {
     /// Temporary paths of the partial files.
     files: Vec<PathBuf>,
-    /// Process ids of encoders, each the leader of its own process group.
-    processes: Vec<u32>,
     /// Hidden files of an earlier run whose inodes the next partial files
     /// in their folders take (see the module documentation).
     spares: Vec<PathBuf>,
@@ -54,7 +51,6 @@ struct Registry {
 
 static REGISTRY: Mutex<Registry> = Mutex::new(Registry {
     files: Vec::new(),
-    processes: Vec::new(),
     spares: Vec::new(),
     closed: false,
 });
@@ -65,16 +61,13 @@ fn registry() -> MutexGuard<'static, Registry> {
         .unwrap_or_else(|poisoned| poisoned.into_inner())
 }
 
-/// Kills every encoder process (with its process group) and removes every
-/// partial file of this process; returns how many files were removed. After
+/// Removes every partial file of this process (and the spares); returns how
+/// many partial files were removed. After
 /// this call no partial file can be created: it is meant for a signal
 /// handler that exits right after.
 pub fn remove_partial_files() -> usize {
     let mut registry = registry();
     registry.closed = true;
-    for &pid in &registry.processes {
-        kill_group(pid);
-    }
     for spare in registry.spares.drain(..) {
         let _ = std::fs::remove_file(spare);
     }
@@ -178,11 +171,6 @@ impl PartialFile {
         })
     }
 
-    /// The hidden temporary name.
-    pub fn temporary(&self) -> &Path {
-        &self.temporary
-    }
-
     /// Writes `bytes` as the whole temporary file. A spare is written over
     /// and then cut to their length: truncating it first would free all
     /// its blocks, and on a file system mounted with `discard` (this
@@ -275,67 +263,6 @@ fn forget(registry: &mut Registry, temporary: &Path) {
     if let Some(index) = registry.files.iter().position(|p| p == temporary) {
         registry.files.swap_remove(index);
     }
-}
-
-/// Starts `command` (an encoder such as ffmpeg) in a process group of its
-/// own, registered so that an interrupt kills it, and whatever it started,
-/// before removing the partial files. Reap it with [`try_reap`] or
-/// [`kill_and_reap`], which take it off the list.
-pub(crate) fn spawn_process(command: &mut Command) -> Result<Child, SpawnError> {
-    #[cfg(unix)]
-    std::os::unix::process::CommandExt::process_group(command, 0);
-    let mut registry = registry();
-    if registry.closed {
-        return Err(SpawnError::Interrupted);
-    }
-    let child = command.spawn().map_err(SpawnError::Io)?;
-    registry.processes.push(child.id());
-    Ok(child)
-}
-
-/// Reaps `child` if it has exited. Reaping and leaving the list happen under
-/// one lock, so an interrupt never signals a process id that the system may
-/// already have given to another process.
-pub(crate) fn try_reap(child: &mut Child) -> std::io::Result<Option<ExitStatus>> {
-    let mut registry = registry();
-    let status = child.try_wait()?;
-    if status.is_some() {
-        registry.processes.retain(|&pid| pid != child.id());
-    }
-    Ok(status)
-}
-
-/// Kills `child` and its process group, and reaps it (nothing when it is
-/// reaped already).
-pub(crate) fn kill_and_reap(child: &mut Child) {
-    let mut registry = registry();
-    if registry.processes.contains(&child.id()) {
-        kill_group(child.id());
-        let _ = child.kill();
-        let _ = child.wait();
-        registry.processes.retain(|&pid| pid != child.id());
-    }
-}
-
-/// Why an encoder process could not be started.
-#[derive(Debug)]
-pub(crate) enum SpawnError {
-    /// The run is being interrupted.
-    Interrupted,
-    /// The operating system refused.
-    Io(std::io::Error),
-}
-
-/// Sends SIGKILL to the process group led by `pid`.
-fn kill_group(pid: u32) {
-    #[cfg(unix)]
-    if let Ok(pid) = libc::pid_t::try_from(pid) {
-        // SAFETY: kill(2) has no memory-safety preconditions; a negative
-        // pid names the process group.
-        unsafe { libc::kill(-pid, libc::SIGKILL) };
-    }
-    #[cfg(not(unix))]
-    let _ = pid;
 }
 
 #[cfg(test)]

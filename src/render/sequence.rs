@@ -480,7 +480,8 @@ fn collect(
     }
 }
 
-/// Checks what a run asks for before any work: the videos can be written,
+/// Checks what a run asks for before any work: the videos can be written at
+/// the image size,
 /// their frame rate is valid, and an automatic camera or colour range has the
 /// whole run.
 fn check_request(
@@ -489,7 +490,7 @@ fn check_request(
     known_frames: &[RenderFrame],
     outputs: &RenderOutputs,
 ) -> Result<(), RenderError> {
-    check_video_support(&outputs.videos)?;
+    check_video_support(&outputs.videos, settings.width, settings.height)?;
     let fps_valid = outputs.fps > 0.0 && outputs.fps.is_finite();
     if !outputs.videos.is_empty() && !fps_valid {
         return Err(RenderError::InvalidInput(format!(

@@ -11,8 +11,8 @@
 //!   (`frame_image`) stores only the rectangle where the two can differ, the
 //!   union of their patches, drawn over the previous frame (dispose `None`,
 //!   blend `Source`), so a small body costs a small frame.
-//! - MP4 (`video.mp4`): raw RGBA frames piped to `ffmpeg`, never waiting on
-//!   it forever (see [`Mp4Writer`]).
+//! - MP4 (`video.mp4`): H.264 encoded in the process with OpenH264 from YUV
+//!   4:2:0 planes, muxed with the `mp4` crate (see [`Mp4Writer`]).
 //! - GIF (`video.gif`): the `gif` crate, one NeuQuant palette per frame.
 //!   Viewers treat GIF delays under 2/100 s as 1/10 s, so above 50 frames per
 //!   second the GIF keeps every n-th frame and plays at `fps / n`.

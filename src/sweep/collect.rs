@@ -9,7 +9,7 @@ use super::contact_sheet::{MAX_COMPARISON_SIZE, MAX_SHEET_SIZE, TileGrid, read_f
 use super::run_record::{RunRecord, RunStatus};
 use super::sweep_table::{RowStatus, SweepDescription, SweepRow, write_csv, write_json};
 use super::{RunSpec, RunSummary, SweepError};
-use crate::render::{RenderError, VideoFormat, check_video_support, write_image_video};
+use crate::render::{RenderError, VideoFormat, write_image_video};
 use image::RgbaImage;
 use std::path::{Path, PathBuf};
 
@@ -195,9 +195,6 @@ fn comparison(
             VideoFormat::Mp4 => "comparison.mp4",
             VideoFormat::Gif => "comparison.gif",
         };
-        if check_video_support(&[format]).is_err() {
-            continue;
-        }
         let path = dir.join(name);
         write_image_video(
             format,

@@ -6,9 +6,8 @@
 //! and about ten minutes of CI. Here each file is a module, so
 //! `cargo test --test integration golden_scenes` runs one file's tests.
 //!
-//! Two tests stay binaries of their own, because they change the whole
-//! process: `tests/allocations.rs` installs a counting global allocator and
-//! `tests/render_no_ffmpeg.rs` empties `PATH`.
+//! One test stays a binary of its own, because it changes the whole
+//! process: `tests/allocations.rs` installs a counting global allocator.
 
 // Helpers shared by the modules below (`support` also brings the
 // `both_dimensions!` macro).
@@ -17,10 +16,9 @@ mod support;
 mod cli_common;
 // The independent intersection check of saved surfaces (its own tests
 // allocate, so it stays out of `support`, which tests/allocations.rs shares).
-#[cfg(unix)]
-mod fake_ffmpeg;
 #[path = "support/intersection.rs"]
 mod intersection;
+mod mp4_file;
 mod render_support;
 
 mod analytic;
@@ -51,7 +49,6 @@ mod regression_gradient_descent_never_moved;
 mod regression_interrupt_left_partial_video;
 mod regression_loose_tolerance_froze_the_body;
 mod regression_silent_bad_results;
-mod regression_stuck_ffmpeg_hung_the_run;
 mod regression_stvk_folded_inside_out;
 mod regression_writes_outside_output_folder;
 mod render_devices;

@@ -2,6 +2,7 @@
 //! videos with the right frame counts, in-order progress, and no complete
 //! looking video after a failed run.
 
+use crate::mp4_file::Mp4File;
 use crate::render_support::{no_adapter_allowed, plain_settings, square};
 use elasto::render::{RenderFrame, RenderOutputs, RenderSettings, VideoFormat, render_sequence};
 use image::AnimationDecoder;
@@ -183,21 +184,13 @@ fn gif_holds_every_frame() {
 }
 
 #[test]
-fn mp4_is_written_with_even_dimensions_when_ffmpeg_exists() {
-    if std::process::Command::new("ffmpeg")
-        .arg("-version")
-        .output()
-        .is_err()
-    {
-        eprintln!("note: skipping the mp4 test, ffmpeg is not on PATH (CI installs it)");
-        return;
-    }
+fn mp4_is_written_with_even_dimensions_and_one_sample_per_frame() {
     if no_adapter_allowed() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
     let (mesh, frames) = sliding_square(6);
-    // Odd sizes: ffmpeg pads to 66x50 for yuv420p.
+    // Odd sizes: YUV 4:2:0 pads to 66x50.
     let settings = RenderSettings {
         width: 65,
         height: 49,
@@ -213,60 +206,94 @@ fn mp4_is_written_with_even_dimensions_when_ffmpeg_exists() {
     .unwrap();
     assert_eq!(file_names(&dir.path().join("video")), ["video.mp4"]);
     let path = dir.path().join("video/video.mp4");
-    let probe = std::process::Command::new("ffprobe")
-        .args([
-            "-v",
-            "error",
-            "-select_streams",
-            "v:0",
-            "-count_frames",
-            "-show_entries",
-        ])
-        .arg("stream=codec_name,width,height,pix_fmt,nb_read_frames")
-        .args(["-of", "default=noprint_wrappers=1"])
-        .arg(&path)
-        .output()
-        .expect("ffprobe comes with ffmpeg");
-    let report = String::from_utf8_lossy(&probe.stdout);
-    for line in [
-        "codec_name=h264",
-        "width=66",
-        "height=50",
-        "pix_fmt=yuv420p",
-        "nb_read_frames=6",
-    ] {
-        assert!(
-            report.lines().any(|l| l == line),
-            "missing {line} in:\n{report}"
-        );
-    }
-    assert_mp4_shows_the_frames(&path, &dir.path().join("frames"), (65, 49), 6);
+    let mp4 = Mp4File::read(&path).unwrap();
+    assert_eq!(mp4.major_brand, "isom");
+    assert_eq!(mp4.track_size, (66, 50));
+    assert_eq!(mp4.coded_size, (66, 50));
+    assert_eq!(mp4.samples.len(), 6);
+    // 25 frames per second, exactly.
+    assert!(
+        mp4.durations.len() == 6
+            && mp4
+                .durations
+                .iter()
+                .all(|&d| u64::from(d) * 25 == u64::from(mp4.timescale)),
+        "{} ticks per second, durations {:?}",
+        mp4.timescale,
+        mp4.durations
+    );
+    // The first frame is a key frame; the SPS is constrained baseline (66).
+    assert!(
+        mp4.sync_samples
+            .as_ref()
+            .is_none_or(|s| s.first() == Some(&1)),
+        "{:?}",
+        mp4.sync_samples
+    );
+    assert_eq!(mp4.sps[0] & 0x1f, 7, "an SPS");
+    assert_eq!(mp4.sps[1], 66, "baseline profile");
+    assert_mp4_shows_the_frames(&mp4, &dir.path().join("frames"), (65, 49), 6);
+
+    // The same frames give the same bytes.
+    let again = tempfile::tempdir().unwrap();
+    render_sequence(
+        &settings,
+        &mesh,
+        &frames,
+        &outputs(again.path(), vec![VideoFormat::Mp4]),
+        &mut |_| {},
+    )
+    .unwrap();
+    assert!(
+        std::fs::read(&path).unwrap()
+            == std::fs::read(again.path().join("video/video.mp4")).unwrap(),
+        "two runs wrote different MP4s"
+    );
 }
 
-/// Decodes the MP4 at `path` as a player does (its BT.709, limited-range
-/// tags read by ffmpeg) and compares each frame with its PNG file. H.264
-/// at CRF 18 and 4:2:0 chroma blur edges (a red pixel next to grey ones
-/// loses some red), but keep flat regions' colours; a wrong colour matrix or
-/// range shifts those (checked: BT.601 for BT.709 moves the body's red and
+#[test]
+fn mp4_frames_over_the_encoders_limit_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, frames) = sliding_square(2);
+    let settings = RenderSettings {
+        width: 4000,
+        height: 100,
+        ..settings()
+    };
+    let error = render_sequence(
+        &settings,
+        &mesh,
+        &frames,
+        &outputs(dir.path(), vec![VideoFormat::Apng, VideoFormat::Mp4]),
+        &mut |_| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("video.mp4") && error.contains("4000x100") && error.contains("3840x2160"),
+        "{error}"
+    );
+    assert!(!dir.path().join("frames").exists(), "frames were written");
+}
+
+/// Decodes the MP4 as a player does (OpenH264's decoder, then BT.709 in
+/// limited range back to RGB, as its SPS says) and compares each frame with
+/// its PNG file. H.264 and 4:2:0 chroma blur edges (a red pixel next to grey
+/// ones loses some red), but keep flat regions' colours; a wrong colour
+/// matrix or range shifts those (BT.601 for BT.709 moves the body's red and
 /// green by 11 levels, full range for limited puts the mean error at 9
 /// levels). Rounding moves them by a level or two: the conversion rounds
 /// each code value (the body's red, sRGB (231, 89, 63), is Y, Cb, Cr = 117,
-/// 102, 191 for 116.75, 102.29, 191.42), and so does the decoder (measured
-/// here: the flat red 2.3 to 2.8 levels low in red, 0.9 to 1.4 with
-/// ffmpeg's own conversion before). A pixel is in a flat region when every
-/// pixel within two of it has its colour, within two levels.
-fn assert_mp4_shows_the_frames(path: &Path, frames: &Path, size: (u32, u32), count: usize) {
-    let decoded = std::process::Command::new("ffmpeg")
-        .args(["-v", "error", "-i"])
-        .arg(path)
-        .args(["-f", "rawvideo", "-pix_fmt", "rgb24", "-"])
-        .output()
-        .expect("ffmpeg decodes");
-    assert!(decoded.status.success(), "{decoded:?}");
+/// 102, 191 for 116.75, 102.29, 191.42), and so does the decoder. A pixel is
+/// in a flat region when every pixel within two of it has its colour, within
+/// two levels.
+fn assert_mp4_shows_the_frames(mp4: &Mp4File, frames: &Path, size: (u32, u32), count: usize) {
+    let decoded = mp4.decode_rgb().unwrap();
     let padded = (size.0.next_multiple_of(2), size.1.next_multiple_of(2));
     let frame_bytes = (padded.0 * padded.1 * 3) as usize;
-    assert_eq!(decoded.stdout.len(), frame_bytes * count);
-    for (index, pixels) in decoded.stdout.chunks_exact(frame_bytes).enumerate() {
+    assert_eq!(decoded.len(), count);
+    for (index, pixels) in decoded.iter().enumerate() {
+        assert_eq!(pixels.len(), frame_bytes, "frame {index}");
         let png = image::open(frames.join(format!("frame_{index:04}.png")))
             .unwrap()
             .to_rgb8();
