@@ -413,3 +413,58 @@ fn saved_meshes_carry_contact_forces_that_sum_to_zero() {
     let vtu = std::fs::read_to_string(dir.path().join("n/meshes/frame_0001.vtu")).unwrap();
     assert!(!vtu.contains("contact_force"));
 }
+
+#[test]
+fn check_prints_the_contact_distance_and_stiffness_and_the_default_distance_is_a_thousandth_of_the_diagonal()
+ {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("boxes.toml");
+    std::fs::write(&path, TWO_BOXES_2D).unwrap();
+    let o = elasto(dir.path(), &["check", path.to_str().unwrap()]);
+    assert_code(&o, 0);
+    let text = stdout(&o);
+    assert!(
+        text.contains("contact         d_hat = 0.005, stiffness kappa = "),
+        "{text}"
+    );
+    assert!(
+        text.contains("(adaptive (IPC), before the first step), self-contact on"),
+        "{text}"
+    );
+    // Without `distance`: 1e-3 times the diagonal of the bodies' box,
+    // here [0, 1] x [0.05, 1.4], recorded in the resolved scene.
+    std::fs::write(
+        &path,
+        TWO_BOXES_2D.replace("distance = 0.005\n", "kappa = 1e4\nself = false\n"),
+    )
+    .unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "run",
+            path.to_str().unwrap(),
+            "--no-render",
+            "-q",
+            "--frames",
+            "2",
+        ],
+    );
+    assert_code(&o, 0);
+    let resolved = std::fs::read_to_string(dir.path().join("out/boxes/scene.toml")).unwrap();
+    let table: toml::Table = resolved.parse().unwrap();
+    let contact = &table["effects"]["contact"];
+    let expected = 1e-3 * (1.0f64 + 1.35 * 1.35).sqrt();
+    let distance = contact["distance"].as_float().unwrap();
+    assert!(
+        (distance - expected).abs() < 1e-15,
+        "{distance} against {expected}"
+    );
+    assert_eq!(contact["kappa"].as_float(), Some(1e4));
+    assert_eq!(contact["self"].as_bool(), Some(false));
+    let o = elasto(dir.path(), &["check", path.to_str().unwrap()]);
+    assert!(
+        stdout(&o).contains("stiffness kappa = 1.000000e4 (fixed), self-contact off"),
+        "{}",
+        stdout(&o)
+    );
+}

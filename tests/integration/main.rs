@@ -33,6 +33,7 @@ mod cli_sweep;
 mod compare_cli;
 mod compare_flip;
 mod contact;
+mod contact_hard_cases;
 mod derivatives;
 mod determinism;
 mod element_fields;

@@ -1,0 +1,328 @@
+//! Issue 29, item 11: the hard cases with contact. Each `scenes/hard/contact-*.toml`
+//! runs through the real binary with each of the four materials (its
+//! `model = "..."` lines rewritten in a copy: `--set material.model` does not
+//! reach `[[bodies]]`), one `#[test]` per scene, saving every frame's surface.
+//!
+//! Per run:
+//! - exit 0, and every saved frame is intersection-free by the independent
+//!   check of `support/intersection.rs` (crossings and containment);
+//! - the bodies met: the sparse pattern grew for contact pairs (`reanalyses`);
+//! - every `stats.csv` value is finite (`min_distance` may be empty: no pair
+//!   within d̂ at that frame's end), and `min_distance` > 0 where given;
+//! - `min_volume_ratio` (J) > 0 and `min_height` > 0 on every frame;
+//! - at least 99% of the steps converge (`unconverged_steps` +
+//!   `stalled_steps` over `(frames − 1) × substeps`), except for the runs in
+//!   [`KNOWN_LIMITS`], which must still fall short and say so in the health
+//!   summary: a known limit that starts passing fails its test, so the list
+//!   only shrinks. The checks above hold for the known limits too.
+//!
+//! `contact-sheet-fold-3d` also has a negative control: with
+//! `effects.contact.self = false` (Neo-Hookean) the sheet passes through
+//! itself, so the case does test self-contact.
+
+use crate::cli_common::{assert_code, elasto, read_csv, stderr};
+use crate::intersection::{SavedSurface, find_intersections};
+use std::path::{Path, PathBuf};
+
+const MATERIALS: [&str; 4] = [
+    "stvk",
+    "neo-hookean",
+    "stable-neo-hookean",
+    "fixed-corotated",
+];
+
+/// Runs that converge in fewer than 99% of their steps today, and why
+/// (measured with the scenes as they are; each stays intersection-free, with
+/// positive distances and J > 0).
+///
+/// - St. Venant-Kirchhoff has no barrier against flattening: the impacts and
+///   the crumpling sheet crush elements onto the inversion guard (J = 1e-9)
+///   and almost every later step stalls in the line search or hits the cap
+///   (README, "StVK's limits"; the same as the ground impacts of
+///   `hard_cases.rs`).
+/// - Stable Neo-Hookean and fixed corotated have a finite energy at J = 0: at
+///   the moment of impact 2-3 steps of 90 stall (the inversion or contact cap
+///   leaves the line search no room) or reach the 50-iteration cap, as on the
+///   ground impacts; in 3D at -50 the guard holds an element at J = 1e-9.
+///   Raising `max_iterations` to 1000 does not help (measured in 2D at -50).
+/// - Neo-Hookean at -500 units/s: 3 steps of 90 (the impact frame) reach the
+///   50-iteration cap, while CCD queries exhaust their budget
+///   (`ccd_budget_exhausted` 6 in 2D, 3 in 3D) and keep the steps short; the
+///   ground-only impact-500 cases fall short the same way (97.8%).
+const KNOWN_LIMITS: &[(&str, &str)] = &[
+    ("contact-impact-50-2d", "stvk"),
+    ("contact-impact-50-2d", "stable-neo-hookean"),
+    ("contact-impact-50-2d", "fixed-corotated"),
+    ("contact-impact-50-3d", "stvk"),
+    ("contact-impact-50-3d", "stable-neo-hookean"),
+    ("contact-impact-50-3d", "fixed-corotated"),
+    ("contact-impact-500-2d", "stvk"),
+    ("contact-impact-500-2d", "neo-hookean"),
+    ("contact-impact-500-2d", "stable-neo-hookean"),
+    ("contact-impact-500-2d", "fixed-corotated"),
+    ("contact-impact-500-3d", "stvk"),
+    ("contact-impact-500-3d", "neo-hookean"),
+    ("contact-impact-500-3d", "stable-neo-hookean"),
+    ("contact-impact-500-3d", "fixed-corotated"),
+    ("contact-sheet-fold-3d", "stvk"),
+];
+
+fn scene_path(case: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/hard/{case}.toml"))
+}
+
+/// A key's value in a scene's text (first `key = value` line).
+fn scene_value(text: &str, key: &str) -> Option<String> {
+    text.lines().find_map(|l| {
+        let (k, v) = l.split_once('=')?;
+        (k.trim() == key).then(|| v.split('#').next().unwrap().trim().to_owned())
+    })
+}
+
+/// The scene's text with every body's material model set to `material`.
+fn with_material(text: &str, material: &str) -> String {
+    let mut out: String = text
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("model = ") {
+                format!("model = \"{material}\"")
+            } else {
+                l.to_owned()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    out.push('\n');
+    out
+}
+
+/// What one run measured.
+struct Run {
+    name: String,
+    header: Vec<String>,
+    rows: Vec<Vec<String>>,
+    stderr: String,
+    folder: PathBuf,
+    substeps: usize,
+}
+
+impl Run {
+    fn cells(&self, column: &str) -> Vec<&str> {
+        let i = self
+            .header
+            .iter()
+            .position(|h| h == column)
+            .unwrap_or_else(|| panic!("{}: no column {column}", self.name));
+        self.rows.iter().map(|r| r[i].as_str()).collect()
+    }
+    fn numbers(&self, column: &str) -> Vec<f64> {
+        self.cells(column)
+            .iter()
+            .filter(|c| !c.is_empty())
+            .map(|c| c.parse().unwrap())
+            .collect()
+    }
+    fn total(&self, column: &str) -> f64 {
+        self.numbers(column).iter().sum()
+    }
+    fn steps(&self) -> usize {
+        self.rows.len().saturating_sub(1) * self.substeps
+    }
+    fn converged_fraction(&self) -> f64 {
+        let steps = self.steps() as f64;
+        (steps - self.total("unconverged_steps") - self.total("stalled_steps")) / steps
+    }
+    /// Saved frames the independent check finds intersecting, with the first
+    /// problem of each.
+    fn intersecting_frames(&self) -> Vec<String> {
+        let mut files: Vec<_> = std::fs::read_dir(self.folder.join("surfaces"))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+            .collect();
+        files.sort();
+        assert_eq!(files.len(), self.rows.len(), "{}: one surface per frame", self.name);
+        files
+            .iter()
+            .filter_map(|f| {
+                let found = find_intersections(&SavedSurface::read_obj(f).unwrap());
+                found.first().map(|first| {
+                    format!(
+                        "{} ({} problems, first {first:?})",
+                        f.file_name().unwrap().to_string_lossy(),
+                        found.len()
+                    )
+                })
+            })
+            .collect()
+    }
+}
+
+/// Runs `case` with `material` (and `extra` flags) in `dir`, saving surfaces.
+fn run(dir: &Path, case: &str, material: &str, extra: &[&str]) -> Run {
+    let text = std::fs::read_to_string(scene_path(case)).unwrap();
+    let name = format!("{case}/{material}{}", extra.join(" "));
+    let out = format!("{case}-{material}{}", if extra.is_empty() { "" } else { "-x" });
+    let scene = dir.join(format!("{out}.toml"));
+    std::fs::write(&scene, with_material(&text, material)).unwrap();
+    let mut args = vec![
+        "run",
+        scene.to_str().unwrap(),
+        "--no-render",
+        "--save-surface",
+        "obj",
+        "-q",
+        "--force",
+        "--out",
+        &out,
+    ];
+    args.extend_from_slice(extra);
+    let o = elasto(dir, &args);
+    assert_code(&o, 0);
+    let (header, rows) = read_csv(&dir.join(&out).join("stats.csv"));
+    Run {
+        name,
+        header,
+        rows,
+        stderr: stderr(&o),
+        folder: dir.join(&out),
+        substeps: scene_value(&text, "substeps")
+            .expect("the scene states time.substeps")
+            .parse()
+            .unwrap(),
+    }
+}
+
+/// Every check of the module on one run; problems are pushed to `failures`.
+fn check(case: &str, material: &str, r: &Run, failures: &mut Vec<String>) {
+    let name = &r.name;
+    let crossing = r.intersecting_frames();
+    if !crossing.is_empty() {
+        failures.push(format!("{name}: intersecting frames {crossing:?}"));
+    }
+    if r.total("reanalyses") == 0.0 {
+        failures.push(format!("{name}: the bodies never met (no reanalyses)"));
+    }
+    for (f, row) in r.rows.iter().enumerate() {
+        for (h, v) in r.header.iter().zip(row) {
+            if h == "min_distance" && v.is_empty() {
+                continue;
+            }
+            if !v.parse::<f64>().is_ok_and(f64::is_finite) {
+                failures.push(format!("{name}: frame {f}: {h} = {v:?}"));
+            }
+        }
+    }
+    for column in ["min_distance", "min_volume_ratio", "min_height"] {
+        let worst = r.numbers(column).into_iter().fold(f64::INFINITY, f64::min);
+        if worst.is_nan() || worst <= 0.0 {
+            failures.push(format!("{name}: {column} reaches {worst}"));
+        }
+    }
+    let converged = r.converged_fraction();
+    let known = KNOWN_LIMITS.contains(&(case, material));
+    if known && converged >= 0.99 {
+        failures.push(format!(
+            "{name}: listed in KNOWN_LIMITS but {:.1}% of {} steps converge: remove it",
+            100.0 * converged,
+            r.steps()
+        ));
+    } else if known && !r.stderr.contains("health:") {
+        failures.push(format!(
+            "{name}: falls short ({:.1}%) but no health summary: {}",
+            100.0 * converged,
+            r.stderr
+        ));
+    } else if !known && converged < 0.99 {
+        failures.push(format!(
+            "{name}: only {:.1}% of {} steps converged: {}",
+            100.0 * converged,
+            r.steps(),
+            r.stderr
+        ));
+    }
+}
+
+fn check_case(case: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let mut failures = Vec::new();
+    for material in MATERIALS {
+        let r = run(dir.path(), case, material, &[]);
+        check(case, material, &r, &mut failures);
+    }
+    assert!(
+        failures.is_empty(),
+        "{} problems:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn contact_impact_50_2d() {
+    check_case("contact-impact-50-2d");
+}
+
+#[test]
+fn contact_impact_50_3d() {
+    check_case("contact-impact-50-3d");
+}
+
+#[test]
+fn contact_impact_500_2d() {
+    check_case("contact-impact-500-2d");
+}
+
+#[test]
+fn contact_impact_500_3d() {
+    check_case("contact-impact-500-3d");
+}
+
+#[test]
+fn contact_pile_3d() {
+    check_case("contact-pile-3d");
+}
+
+#[test]
+fn contact_sheet_fold_3d() {
+    check_case("contact-sheet-fold-3d");
+    // Without self-contact the sheet folds through itself: the case tests it.
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(
+        dir.path(),
+        "contact-sheet-fold-3d",
+        "neo-hookean",
+        &["--set", "effects.contact.self=false"],
+    );
+    assert!(
+        !r.intersecting_frames().is_empty(),
+        "the sheet never met itself: the case does not test self-contact"
+    );
+}
+
+#[test]
+fn every_contact_hard_case_has_a_test() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard");
+    let mut found: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter_map(|p| p.file_stem()?.to_str().map(str::to_owned))
+        .filter(|s| s.starts_with("contact-"))
+        .collect();
+    found.sort();
+    assert_eq!(
+        found,
+        [
+            "contact-impact-50-2d",
+            "contact-impact-50-3d",
+            "contact-impact-500-2d",
+            "contact-impact-500-3d",
+            "contact-pile-3d",
+            "contact-sheet-fold-3d",
+        ]
+    );
+    for (case, _) in KNOWN_LIMITS {
+        assert!(found.iter().any(|f| f == case), "{case}");
+    }
+}
