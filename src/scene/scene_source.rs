@@ -43,7 +43,7 @@ pub const BUILTIN_SCENES: &[BuiltinScene] = &[
     },
     BuiltinScene {
         name: "two-bodies",
-        description: "a soft ball and a stiffer ring (shipped meshes) falling side by side onto the ground",
+        description: "a stiff ring dropped onto a soft ball resting on the ground (shipped meshes): contact between bodies",
         toml: include_str!("../../scenes/two-bodies.toml"),
     },
 ];

@@ -141,7 +141,12 @@ impl Run {
             .filter(|p| p.extension().is_some_and(|e| e == "obj"))
             .collect();
         files.sort();
-        assert_eq!(files.len(), self.rows.len(), "{}: one surface per frame", self.name);
+        assert_eq!(
+            files.len(),
+            self.rows.len(),
+            "{}: one surface per frame",
+            self.name
+        );
         files
             .iter()
             .filter_map(|f| {
@@ -161,8 +166,13 @@ impl Run {
 /// Runs `case` with `material` (and `extra` flags) in `dir`, saving surfaces.
 fn run(dir: &Path, case: &str, material: &str, extra: &[&str]) -> Run {
     let text = std::fs::read_to_string(scene_path(case)).unwrap();
-    let name = format!("{case}/{material}{}", extra.join(" "));
-    let out = format!("{case}-{material}{}", if extra.is_empty() { "" } else { "-x" });
+    let name = format!("{case}/{material} {}", extra.join(" "))
+        .trim_end()
+        .to_owned();
+    let out = format!(
+        "{case}-{material}{}",
+        if extra.is_empty() { "" } else { "-x" }
+    );
     let scene = dir.join(format!("{out}.toml"));
     std::fs::write(&scene, with_material(&text, material)).unwrap();
     let mut args = vec![

@@ -379,7 +379,15 @@ fn edge_meets_triangle(p: [f64; 3], q: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> bo
     if side_p * side_q > 0 {
         return false;
     }
-    if side_p == 0 && side_q == 0 {
+    let signs = [
+        orient3d(p, q, a, b),
+        orient3d(p, q, b, c),
+        orient3d(p, q, c, a),
+    ]
+    .map(sign);
+    // All three volumes zero: the edge lies in the triangle's plane, whatever
+    // rounding made of `side_p` and `side_q` (a hair off zero): the 2D test.
+    if (side_p == 0 && side_q == 0) || signs == [0; 3] {
         // Coplanar: work in the plane of the two axes other than the normal's largest.
         let drop = (0..3)
             .max_by(|&i, &j| normal[i].abs().total_cmp(&normal[j].abs()))
@@ -393,12 +401,6 @@ fn edge_meets_triangle(p: [f64; 3], q: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> bo
                 .iter()
                 .any(|&(s, e)| segment_contact_2d(p, q, s, e).is_some());
     }
-    let signs = [
-        orient3d(p, q, a, b),
-        orient3d(p, q, b, c),
-        orient3d(p, q, c, a),
-    ]
-    .map(sign);
     !(signs.contains(&1) && signs.contains(&-1))
 }
 
