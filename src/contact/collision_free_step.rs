@@ -10,8 +10,9 @@
 //! hang.
 
 use super::ccd::{CcdOutcome, CcdSettings, edge_edge_ccd, point_edge_ccd, point_triangle_ccd};
+use super::stencil::{xy, xyz};
 use super::{ContactStencil, StencilKind};
-use crate::math::{Vector, Vector2, Vector3};
+use crate::math::{Vector, Vector3};
 
 /// The answer of [`collision_free_step`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,26 +48,28 @@ pub fn collision_free_step<const D: usize>(
                 let d = |i: usize| xy(&dx[v[i]]);
                 point_edge_ccd(&p(0), &p(1), &p(2), &d(0), &d(1), &d(2), step, settings)
             }
-            StencilKind::PointTriangle => {
+            StencilKind::PointTriangle | StencilKind::EdgeEdge => {
+                // The two 3D queries take the same arguments.
+                type Query = fn(
+                    &Vector3,
+                    &Vector3,
+                    &Vector3,
+                    &Vector3,
+                    &Vector3,
+                    &Vector3,
+                    &Vector3,
+                    &Vector3,
+                    f64,
+                    &CcdSettings,
+                ) -> CcdOutcome;
+                let query: Query = if stencil.kind == StencilKind::PointTriangle {
+                    point_triangle_ccd
+                } else {
+                    edge_edge_ccd
+                };
                 let p = |i: usize| xyz(&x[v[i]]);
                 let d = |i: usize| xyz(&dx[v[i]]);
-                point_triangle_ccd(
-                    &p(0),
-                    &p(1),
-                    &p(2),
-                    &p(3),
-                    &d(0),
-                    &d(1),
-                    &d(2),
-                    &d(3),
-                    step,
-                    settings,
-                )
-            }
-            StencilKind::EdgeEdge => {
-                let p = |i: usize| xyz(&x[v[i]]);
-                let d = |i: usize| xyz(&dx[v[i]]);
-                edge_edge_ccd(
+                query(
                     &p(0),
                     &p(1),
                     &p(2),
@@ -90,12 +93,4 @@ pub fn collision_free_step<const D: usize>(
         step: step.max(0.0),
         budget_exhausted,
     }
-}
-
-fn xy<const D: usize>(p: &Vector<D>) -> Vector2 {
-    Vector2::new(p[0], p[1])
-}
-
-fn xyz<const D: usize>(p: &Vector<D>) -> Vector3 {
-    Vector3::new(p[0], p[1], p[2])
 }

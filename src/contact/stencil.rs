@@ -233,11 +233,13 @@ fn project_12(h: SMatrix<f64, 12, 12>) -> SMatrix<f64, 12, 12> {
     eigen.recompose()
 }
 
-fn xy<const D: usize>(p: &Vector<D>) -> Vector2 {
+/// The first two coordinates of `p` (a 2D stencil's point).
+pub(super) fn xy<const D: usize>(p: &Vector<D>) -> Vector2 {
     Vector2::new(p[0], p[1])
 }
 
-fn xyz<const D: usize>(p: &Vector<D>) -> Vector3 {
+/// The first three coordinates of `p` (a 3D stencil's point).
+pub(super) fn xyz<const D: usize>(p: &Vector<D>) -> Vector3 {
     Vector3::new(p[0], p[1], p[2])
 }
 

@@ -229,7 +229,8 @@ impl<const D: usize> ContactBarrier<D> {
     /// Sets `kappa` by IPC's balance rule at the start of a step (see the
     /// module documentation): `rest_gradient` is the gradient of the
     /// objective without the contact at `x`, `weight` the integrator's `w`.
-    /// A fixed stiffness is left alone.
+    /// A fixed stiffness is left alone. Uses the stencils found at `x` by
+    /// [`EnergyTerm::begin_step`], which must come first.
     pub fn balance_stiffness(
         &mut self,
         x: &[Vector<D>],
@@ -240,7 +241,6 @@ impl<const D: usize> ContactBarrier<D> {
         if !self.is_adaptive() {
             return;
         }
-        self.previous_min_distance_squared = self.find_active(x);
         let mut barrier_gradient = std::mem::take(&mut self.barrier_gradient);
         barrier_gradient.clear();
         barrier_gradient.resize(x.len(), Vector::<D>::zeros());
@@ -419,8 +419,13 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
         }
     }
 
+    /// The candidates at the step's start, for [`Self::balance_stiffness`]
+    /// and the stiffness rule's first comparison (an adaptive stiffness
+    /// only: with a fixed one the first iteration finds them).
     fn begin_step(&mut self, x: &[Vector<D>], _v: &[Vector<D>]) {
-        self.previous_min_distance_squared = self.find_active(x);
+        if self.is_adaptive() {
+            self.previous_min_distance_squared = self.find_active(x);
+        }
     }
 }
 
