@@ -220,7 +220,8 @@ fn run_scene<const D: usize>(
         "simulate"
     };
     let mut progress = Progress::start(plan.progress, label, frames);
-    let mut health = RunHealth::new();
+    let mut health = RunHealth::new(sim.allows_inversion());
+    let mut unconverged_reported = false;
     // The frames, until one fails: then the rows waiting for their images
     // are written all the same, with empty rendering cells.
     let simulated = (|| -> Result<(), AppError> {
@@ -240,6 +241,28 @@ fn run_scene<const D: usize>(
             let steps = if frame == 0 { 0 } else { config.time.substeps };
             let touched_before = health.first_contact_failure().is_some();
             health.add(frame, steps, &frame_stats);
+            if frame_stats.unconverged_steps + frame_stats.stalled_steps > 0 {
+                let failed = format!(
+                    "frame {frame} (t = {:.6} s): {} step(s) hit the iteration cap and {} \
+                     stalled in the line search, even as {} shorter steps",
+                    frame_stats.time,
+                    frame_stats.unconverged_steps,
+                    frame_stats.stalled_steps,
+                    1usize << config.solver.max_subdivisions,
+                );
+                if plan.strict {
+                    return Err(AppError::Unhealthy {
+                        scene: name.clone(),
+                        summary: failed,
+                    });
+                }
+                if !unconverged_reported {
+                    unconverged_reported = true;
+                    eprintln!(
+                        "elasto: warning: {failed} (reported once; the health summary counts them all)"
+                    );
+                }
+            }
             if !touched_before && let Some(first) = health.first_contact_failure() {
                 eprintln!(
                     "elasto: warning: surfaces touched or crossed at frame {first} \

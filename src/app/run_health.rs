@@ -1,8 +1,12 @@
 //! The health of a finished run: what went wrong without stopping it.
 //!
 //! A run can finish with results that should not be trusted: steps that hit
-//! the iteration cap, steps whose line search stalled, inverted elements
-//! (volume ratio `J <= 0`), or a body that reached the ground. [`RunHealth`]
+//! the iteration cap, steps whose line search stalled (both after every
+//! subdivision), inverted elements (volume ratio `J <= 0`) where a material
+//! forbids them, or a body that reached the ground. A material that allows
+//! inversion (stable Neo-Hookean, fixed corotated) may pass through `J <= 0`
+//! in an impact: that is reported with the volume ratio of the last frame
+//! (recovered or not), not counted as a failure. [`RunHealth`]
 //! gathers these from every output frame's statistics; when any occurred,
 //! `run` prints its one-line summary on stderr, and `--strict` makes it a
 //! failure (exit code 1).
@@ -21,6 +25,10 @@ pub struct RunHealth {
     stalled_steps: usize,
     /// Smallest volume ratio over all frames, and its frame.
     min_volume_ratio: Option<(f64, usize)>,
+    /// The volume ratio of the last frame recorded.
+    last_volume_ratio: Option<f64>,
+    /// Whether every material allows inversion.
+    inversion_allowed: bool,
     /// Smallest gap to the ground over all frames, and its frame (`None`
     /// without a ground).
     lowest_gap: Option<(f64, usize)>,
@@ -30,13 +38,16 @@ pub struct RunHealth {
 }
 
 impl RunHealth {
-    /// Nothing recorded yet.
-    pub fn new() -> Self {
+    /// Nothing recorded yet, for a run whose materials forbid inversion
+    /// (`inversion_allowed = false`) or all allow it.
+    pub fn new(inversion_allowed: bool) -> Self {
         Self {
             steps: 0,
             capped_steps: 0,
             stalled_steps: 0,
             min_volume_ratio: None,
+            last_volume_ratio: None,
+            inversion_allowed,
             lowest_gap: None,
             closest_contact: None,
         }
@@ -54,6 +65,7 @@ impl RunHealth {
             _ => Some((value, frame)),
         };
         self.min_volume_ratio = lower(self.min_volume_ratio, stats.min_volume_ratio);
+        self.last_volume_ratio = Some(stats.min_volume_ratio);
         if let Some(gap) = stats.min_height {
             self.lowest_gap = lower(self.lowest_gap, gap);
         }
@@ -73,7 +85,13 @@ impl RunHealth {
     /// Whether anything went wrong: a step at the iteration cap or stalled,
     /// an inverted (or non-finite) element, or a vertex on or below the ground.
     pub fn has_problems(&self) -> bool {
-        let inverted = self.min_volume_ratio.is_some_and(|(j, _)| !(j > 0.0));
+        let inverted = self.min_volume_ratio.is_some_and(|(j, _)| {
+            if self.inversion_allowed {
+                j.is_nan()
+            } else {
+                !(j > 0.0)
+            }
+        });
         let grounded = self.lowest_gap.is_some_and(|(gap, _)| !(gap > 0.0));
         let touching = self.first_contact_failure().is_some();
         self.capped_steps > 0 || self.stalled_steps > 0 || inverted || grounded || touching
@@ -90,7 +108,19 @@ impl RunHealth {
         ));
         parts.push(format!("{} stalled in the line search", self.stalled_steps));
         if let Some((j, frame)) = self.min_volume_ratio {
-            let verdict = if j > 0.0 { "" } else { ": inverted elements" };
+            let verdict = match self.last_volume_ratio {
+                _ if j > 0.0 => String::new(),
+                Some(last) if self.inversion_allowed && last > 0.0 => format!(
+                    ": inverted, which the material allows, and recovered (J = {} at the end)",
+                    approx(last)
+                ),
+                Some(last) if self.inversion_allowed => format!(
+                    ": inverted, which the material allows, and still inverted at the end \
+                     (J = {}): the load is more than the material can hold",
+                    approx(last)
+                ),
+                _ => ": inverted elements".to_owned(),
+            };
             parts.push(format!(
                 "min volume ratio {} (frame {frame}){verdict}",
                 approx(j)
@@ -122,12 +152,6 @@ impl RunHealth {
     }
 }
 
-impl Default for RunHealth {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -143,6 +167,8 @@ mod tests {
             unconverged_steps: unconverged,
             stalled_steps: 0,
             reanalyses: 0,
+            subdivided_steps: 0,
+            boundary_error: None,
             contact: None,
             energy: EnergyBreakdown::default(),
             centre_of_mass: Vector::<2>::zeros(),
@@ -155,7 +181,7 @@ mod tests {
 
     #[test]
     fn a_healthy_run_has_no_problems() {
-        let mut health = RunHealth::new();
+        let mut health = RunHealth::new(false);
         health.add(0, 0, &frame(0, 1.0, Some(10.0)));
         health.add(1, 10, &frame(0, 0.98, Some(0.05)));
         health.add(2, 10, &frame(0, 0.99, Some(0.07)));
@@ -169,7 +195,7 @@ mod tests {
 
     #[test]
     fn capped_steps_inversions_and_contact_are_problems() {
-        let mut capped = RunHealth::new();
+        let mut capped = RunHealth::new(false);
         capped.add(1, 10, &frame(3, 1.0, None));
         capped.add(2, 10, &frame(4, 1.0, None));
         assert!(capped.has_problems());
@@ -180,7 +206,7 @@ mod tests {
         );
         assert!(!capped.summary(7).contains("ground"));
 
-        let mut inverted = RunHealth::new();
+        let mut inverted = RunHealth::new(false);
         inverted.add(1, 10, &frame(0, 0.5, Some(1.0)));
         inverted.add(2, 10, &frame(0, -0.25, Some(2.0)));
         inverted.add(3, 10, &frame(0, 0.1, Some(3.0)));
@@ -193,7 +219,7 @@ mod tests {
             inverted.summary(50)
         );
 
-        let mut nan = RunHealth::new();
+        let mut nan = RunHealth::new(false);
         nan.add(1, 10, &frame(0, 0.5, None));
         nan.add(2, 10, &frame(0, f64::NAN, None));
         nan.add(3, 10, &frame(0, 0.1, None));
@@ -204,7 +230,7 @@ mod tests {
             nan.summary(50)
         );
 
-        let mut grounded = RunHealth::new();
+        let mut grounded = RunHealth::new(false);
         grounded.add(1, 10, &frame(0, 1.0, Some(0.0)));
         assert!(grounded.has_problems());
         assert!(grounded.summary(50).ends_with("on or below the ground"));

@@ -33,14 +33,13 @@ use crate::mesh::{Mesh, RestElement, edge_matrix};
 use rayon::prelude::*;
 use std::sync::Arc;
 
-/// The fraction of the distance to inversion a single line-search step may cover at most.
-pub const INVERSION_STEP_FRACTION: f64 = 0.9;
-
-/// The smallest volume ratio `J` a line-search step may bring an element to
-/// (when it starts above twice that): far above the round-off of `det F`,
-/// far below any compression a material with an inversion barrier reaches
-/// under sane loads.
-pub const MIN_VOLUME_RATIO: f64 = 1e-9;
+/// The fraction of its volume an element may keep at least in one
+/// line-search step, for a material that forbids inversion (IPC's
+/// injective-step filter, Li et al. 2020): 10% in 2D, 20% in 3D. Relative,
+/// so no element is ever held at a fixed floor.
+pub const fn volume_kept_per_step(dimension: usize) -> f64 {
+    if dimension == 2 { 0.1 } else { 0.2 }
+}
 
 /// Elements per rayon task.
 const ELEMENTS_PER_TASK: usize = 256;
@@ -316,48 +315,38 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
         hessian.gather_element_buffer();
     }
 
-    /// The largest step fraction that keeps every element uninverted,
-    /// whatever the material: for each element the first `t` where
+    /// The inversion policy of the material. A material that allows
+    /// inversion (stable Neo-Hookean, fixed corotated) has no cap: 1. One
+    /// that forbids it (Neo-Hookean, StVK with its volume barrier) gets
+    /// IPC's relative filter: for each element the first `t` where
     /// `J(t) = det((D_s + t dD_s) D_m^{-1})` (a polynomial of degree `D` in
-    /// `t`) falls to the floor `MIN_VOLUME_RATIO`, times
-    /// `INVERSION_STEP_FRACTION` (0.9); 1 if none does in `(0, 1]`.
-    ///
-    /// The floor is there for round-off: a material with finite energy at
-    /// `J <= 0` (St. Venant-Kirchhoff) keeps pushing a crushed element
-    /// towards flat, each capped step covers 90% of what is left, and without
-    /// a floor `J` would reach the round-off of the determinant within a few
-    /// dozen iterations and cross zero. The cap is checked by evaluating
-    /// `J` at it directly (halved until `J` stays above the floor). An
-    /// element that is at the floor already (round-off puts it a hair below)
-    /// may not shrink at all: the cap is the first `t` where `J(t) = J(0)`
-    /// again, 0 if it shrinks at once.
-    /// Where such a material cannot decrease its energy without flattening
-    /// further, the cap is 0 and the solver reports the step as stalled.
+    /// `t`) falls to `c J(0)`, `c` = [`volume_kept_per_step`] (0.1 in 2D, 0.2
+    /// in 3D); 1 if none does in `(0, 1]`. The cap shrinks with the element
+    /// but is never 0 while `J(0) > 0` (the barrier's energy keeps the
+    /// minimiser away from `J = 0`, so the filter only stops a step from
+    /// jumping over it). Round-off in the coefficients is caught by
+    /// evaluating `J` at the cap itself (halved until it holds).
     fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+        if !self.material.forbids_inversion() {
+            return 1.0;
+        }
+        let kept = volume_kept_per_step(D);
         let cap = |e: usize| {
             let simplex = self.mesh.simplex(e);
             let dm_inv = self.mesh.rest_elements()[e].dm_inv;
             let ds = edge_matrix(x, simplex);
             let dds = edge_matrix(dx, simplex);
             let ratio = |t: f64| determinant(&((ds + dds * t) * dm_inv));
-            let j0 = ratio(0.0);
             // J(t) = det(F + t dF), dF = dD_s D_m^{-1}, in closed form.
             let mut volume = Polynomial::determinant_of_line(&(ds * dm_inv), &(dds * dm_inv));
+            let j0 = volume.coefficients()[0];
             if !(j0 > 0.0) {
-                // Already flat or inverted (not reachable by a guarded
-                // step): only keep it from crossing zero again.
-                return first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
+                // Not reachable (the energy is infinite there): keep the
+                // element from crossing zero again.
+                return first_root_in(&volume, 1.0).map_or(1.0, |t| 0.9 * t);
             }
-            if !(j0 > MIN_VOLUME_RATIO) {
-                // At the floor: the element may not shrink any further.
-                // `(J(t) - J(0)) / t` must stay positive.
-                let growth = volume.without_constant();
-                if !(growth.coefficients()[0] > 0.0) {
-                    return 0.0;
-                }
-                return first_root_in(&growth, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t);
-            }
-            volume.coefficients_mut()[0] -= MIN_VOLUME_RATIO;
+            let floor = kept * j0;
+            volume.coefficients_mut()[0] -= floor;
             // For t in [0, 1], J(t) - floor >= c_0 - sum of the negative
             // higher coefficients: when that is positive (most elements,
             // most steps) there is no root to look for.
@@ -367,15 +356,14 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
             let mut cap = if lower_bound > 0.0 {
                 1.0
             } else {
-                first_root_in(&volume, 1.0).map_or(1.0, |t| INVERSION_STEP_FRACTION * t)
+                first_root_in(&volume, 1.0).unwrap_or(1.0)
             };
-            // Round-off in the coefficients: check `J` at the cap itself.
             let mut halvings = 0;
-            while !(ratio(cap) > MIN_VOLUME_RATIO) && halvings < 60 {
+            while !(ratio(cap) >= 0.5 * floor) && halvings < 60 {
                 cap *= 0.5;
                 halvings += 1;
             }
-            if halvings == 60 { 0.0 } else { cap }
+            cap
         };
         // The minimum does not depend on the order: no need for a fixed one.
         let count = self.mesh.element_count();

@@ -37,6 +37,7 @@ mod element_field;
 mod gravity;
 mod ground_barrier;
 mod inertia;
+mod prescribed_motion;
 
 pub use body_elasticity::BodyElasticity;
 pub use contact_barrier::{ContactBarrier, ContactCounters, ContactSettings};
@@ -46,6 +47,7 @@ pub use element_field::ElementField;
 pub use gravity::Gravity;
 pub use ground_barrier::GroundBarrier;
 pub use inertia::Inertia;
+pub use prescribed_motion::PrescribedMotion;
 
 use crate::assembly::SparseHessian;
 use crate::math::Vector;

@@ -42,6 +42,10 @@ impl<const D: usize> TimeIntegrator<D> for BackwardEuler<D> {
         dt * dt
     }
 
+    fn boxed_clone(&self) -> Box<dyn TimeIntegrator<D>> {
+        Box::new(self.clone())
+    }
+
     fn end_step(&mut self, x_new: &[Vector<D>], velocities: &mut [Vector<D>], dt: f64) {
         for ((v, x), x0) in velocities.iter_mut().zip(x_new).zip(&self.start) {
             *v = (x - x0) / dt;

@@ -103,6 +103,10 @@ impl<const D: usize> TimeIntegrator<D> for Bdf2<D> {
         }
     }
 
+    fn boxed_clone(&self) -> Box<dyn TimeIntegrator<D>> {
+        Box::new(self.clone())
+    }
+
     fn end_step(&mut self, x_new: &[Vector<D>], velocities: &mut [Vector<D>], dt: f64) {
         if self.two_step {
             for (((v, x), x0), x1) in velocities

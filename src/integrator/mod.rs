@@ -61,6 +61,9 @@ pub trait TimeIntegrator<const D: usize>: Send + Sync {
     /// Ends the step begun last: `x_new` is the minimiser; overwrites
     /// `velocities` with `v_{n+1}` and updates the scheme's history.
     fn end_step(&mut self, x_new: &[Vector<D>], velocities: &mut [Vector<D>], dt: f64);
+    /// A copy of the scheme with its history, so a step can be taken back
+    /// and retried (as shorter steps).
+    fn boxed_clone(&self) -> Box<dyn TimeIntegrator<D>>;
 }
 
 /// The schemes a scene can choose (`time.integrator`).

@@ -74,6 +74,10 @@ impl<const D: usize> TimeIntegrator<D> for Newmark<D> {
         0.25 * dt * dt
     }
 
+    fn boxed_clone(&self) -> Box<dyn TimeIntegrator<D>> {
+        Box::new(self.clone())
+    }
+
     fn end_step(&mut self, x_new: &[Vector<D>], velocities: &mut [Vector<D>], dt: f64) {
         for ((((v, a), x), p), v0) in velocities
             .iter_mut()

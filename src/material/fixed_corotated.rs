@@ -12,7 +12,9 @@
 //!
 //! (`W` skew; from `F = R S` with `S` symmetric). `dR` is singular where two
 //! signed singular values sum to zero (a flat or inverted element); the sum is
-//! kept away from zero there. The energy is finite for every `F`; the element
+//! kept away from zero there. The energy is finite for every `F` and the
+//! material allows inversion (no cap on `J` in the line search: an inverted
+//! element is pushed back); the element
 //! Hessian's projection onto the PSD cone (in `energy::elasticity`) is the
 //! projection this material needs.
 

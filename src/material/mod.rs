@@ -31,7 +31,7 @@ mod stable_neo_hookean;
 pub use fixed_corotated::FixedCorotated;
 pub use lame_parameters::{LameParameters, YoungPoisson};
 pub use neo_hookean::NeoHookean;
-pub use st_venant_kirchhoff::StVenantKirchhoff;
+pub use st_venant_kirchhoff::{STVK_BARRIER_VOLUME_RATIO, StVenantKirchhoff};
 pub use stable_neo_hookean::StableNeoHookean;
 
 use crate::math::{Matrix, StressDerivative, SvdFrameBlocks, Vector, cofactor};
@@ -60,9 +60,15 @@ pub trait HyperelasticMaterial<const D: usize>: Send + Sync {
     fn stress_derivative_in_svd_frame(&self, _sigma: &Vector<D>) -> Option<SvdFrameBlocks<D>> {
         None
     }
-    /// Whether the energy is infinite for `det F <= 0`. For information only:
-    /// the line search keeps every element uninverted whatever the material
-    /// (`Elasticity::max_step`).
+    /// Whether the energy is infinite for `det F <= 0`: the material's
+    /// inversion policy. A material that forbids inversion (Neo-Hookean's
+    /// `ln J`, StVK's volume barrier) has the line search filter every step
+    /// so that no element loses more than a fixed fraction of its volume in
+    /// one step (`Elasticity::max_step`, IPC's relative filter); one that
+    /// allows it (stable Neo-Hookean, fixed corotated: finite, smooth energy
+    /// through `J = 0`) has no cap at all, and its energy, stress and
+    /// projected Hessian are valid for inverted elements, which it pushes
+    /// back.
     fn forbids_inversion(&self) -> bool;
     /// The out-of-plane Cauchy stress `sigma_zz` of a 2D body read as plane
     /// strain. Every 2D energy here is its 3D form restricted to
@@ -187,6 +193,12 @@ impl Material {
             Material::StableNeoHookean(_) => MaterialModel::StableNeoHookean,
             Material::FixedCorotated(_) => MaterialModel::FixedCorotated,
         }
+    }
+
+    /// Whether the material forbids inversion (its energy is infinite at
+    /// `det F <= 0`): [`HyperelasticMaterial::forbids_inversion`].
+    pub fn forbids_inversion(&self) -> bool {
+        with_material!(self, m => HyperelasticMaterial::<3>::forbids_inversion(m))
     }
 
     /// The constant called `name` (e.g. `mu`), if the material has one.

@@ -15,7 +15,9 @@
 //! ```
 //!
 //! No logarithm and no division: the energy is finite for flat and inverted
-//! elements and pushes them back (the line search still keeps `J > 0`).
+//! elements and pushes them back: the material allows inversion, so the
+//! line search puts no cap on `J` (an element may pass through `J = 0` in
+//! a hard impact and recover).
 
 use super::{
     HyperelasticMaterial, LameParameters, cofactor_differential, determinant_in_singular_values,

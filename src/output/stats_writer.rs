@@ -44,6 +44,8 @@ const TRAILING_COLUMNS: &[&str] = &[
     "ccd_ms",
     "ccd_budget_exhausted",
     "reanalyses",
+    "subdivided_steps",
+    "boundary_error",
     "render_ms",
     "encode_ms",
 ];
@@ -73,6 +75,11 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// ran out of their iteration budget and used the safe step reached (all 0
 /// without contact); `reanalyses`: times the sparse Hessian's pattern grew
 /// with new contact pairs and its symbolic factorisation was redone;
+/// `subdivided_steps`: steps that did not converge whole and were retried
+/// as shorter steps (`solver.max_subdivisions`); `boundary_error`: the
+/// largest distance of a prescribed (moving pinned) vertex from its path at
+/// the end of a step of the frame (0 when every step could put the regions
+/// on their path before its solve; empty in scenes without moving regions);
 /// `render_ms`: drawing the frame's image (draw, readback, legend),
 /// `encode_ms`: encoding and writing it (PNG frame and videos, on worker
 /// threads), both 0 without rendering and empty for frames a failed run
@@ -197,12 +204,17 @@ impl StatsWriter {
             .unwrap_or_default();
         write!(
             row,
-            ",{min_distance},{},{:.3},{:.3},{},{}",
+            ",{min_distance},{},{:.3},{:.3},{},{},{},{}",
             contact.active_pairs,
             ms(contact.broad_phase),
             ms(contact.ccd),
             contact.ccd_budget_exhausted,
             stats.reanalyses,
+            stats.subdivided_steps,
+            stats
+                .boundary_error
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
         )
         .expect("formatting into a String cannot fail");
         PendingRow(row)
@@ -235,6 +247,8 @@ mod tests {
             unconverged_steps: 0,
             stalled_steps: 2,
             reanalyses: 0,
+            subdivided_steps: 0,
+            boundary_error: None,
             contact: None,
             energy: EnergyBreakdown {
                 kinetic: 1.0,

@@ -177,6 +177,8 @@ pub(crate) struct RawSolver {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_iterations: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_subdivisions: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
 }
 

@@ -41,6 +41,10 @@ pub(crate) struct SceneValidator<'d, 'a> {
 
 type VResult<T> = std::result::Result<T, SceneError>;
 
+/// The most halvings of a step `solver.max_subdivisions` may ask for
+/// (`dt / 2^10`: a thousand times more steps where every level fails).
+const MAX_SUBDIVISIONS: usize = 10;
+
 impl<'d, 'a> SceneValidator<'d, 'a> {
     /// A validator whose messages point into `doc`.
     pub fn new(doc: &'d SceneDocument<'a>) -> Self {
@@ -941,10 +945,21 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             Some(n) => self.count("solver.max_iterations", n, usize::MAX)?,
             None => default_iterations,
         };
+        let max_subdivisions = match raw.max_subdivisions {
+            Some(n) if (0..=MAX_SUBDIVISIONS as i64).contains(&n) => n as usize,
+            Some(n) => {
+                return Err(self.err(
+                    "solver.max_subdivisions",
+                    format!("must be a whole number from 0 to {MAX_SUBDIVISIONS}, got {n}"),
+                ));
+            }
+            None => SolverSettings::default().max_subdivisions,
+        };
         let resolved = RawSolver {
             method: Some(method),
             tolerance: Some(tolerance),
             max_iterations: Some(max_iterations as i64),
+            max_subdivisions: Some(max_subdivisions as i64),
             step,
         };
         Ok((
@@ -952,6 +967,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 method: method_settings,
                 tolerance,
                 max_iterations,
+                max_subdivisions,
             },
             resolved,
         ))

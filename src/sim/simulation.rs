@@ -32,6 +32,10 @@ pub struct Simulation<const D: usize> {
     pub(super) barrier_stiffness: Option<f64>,
     pub(super) ground_height: Option<f64>,
     pub(super) hessian: SparseHessian<D>,
+    /// The Hessian whose unknowns include the vertices of the moving
+    /// regions, for steps that pull them onto their path within the solve
+    /// (built on first use).
+    pub(super) prescribed_hessian: Option<SparseHessian<D>>,
     /// The motions of the pinned regions (the effects' first, then the bodies').
     pub(super) motions: Vec<PinMotion<D>>,
     /// Every pinned vertex with its rest position and motion.
@@ -80,6 +84,16 @@ impl<const D: usize> Simulation<D> {
     /// The settings in use.
     pub fn settings(&self) -> &SimulationSettings {
         &self.settings
+    }
+
+    /// Whether every body's material allows inversion (stable Neo-Hookean,
+    /// fixed corotated): an inverted element is then a state the material
+    /// recovers from, not a failure.
+    pub fn allows_inversion(&self) -> bool {
+        self.elasticity
+            .materials()
+            .iter()
+            .all(|m| !m.forbids_inversion())
     }
 
     /// The ground barrier stiffness in use (`None` without a ground).
@@ -137,6 +151,8 @@ impl<const D: usize> Simulation<D> {
             unconverged_steps: 0,
             stalled_steps: 0,
             reanalyses: 0,
+            subdivided_steps: 0,
+            boundary_error: self.motions.iter().any(|m| m.is_moving()).then_some(0.0),
             contact: self.contact.as_ref().map(|c| {
                 let (min_distance, active_pairs) = c.proximity(&self.positions);
                 ContactStats {

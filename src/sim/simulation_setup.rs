@@ -329,6 +329,7 @@ impl<const D: usize> Simulation<D> {
             steps: 0,
             settings,
             hessian,
+            prescribed_hessian: None,
             motions,
             pinned,
         })

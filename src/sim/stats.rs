@@ -86,6 +86,11 @@ pub struct FrameStats<const D: usize> {
     pub stalled_steps: usize,
     /// Times the Hessian's pattern grew and was analysed again (new contact pairs).
     pub reanalyses: usize,
+    /// Substeps that did not converge whole and were retried as shorter steps.
+    pub subdivided_steps: usize,
+    /// The largest distance of a prescribed vertex from its path at the end
+    /// of a substep (`None` in a scene without moving pinned regions).
+    pub boundary_error: Option<f64>,
     /// Contact's measures (`None` without `[effects.contact]`).
     pub contact: Option<ContactStats>,
     /// Energies at the end of the frame.

@@ -1,10 +1,33 @@
 //! Advancing a simulation: one step frees the pinned regions whose release time has come, puts the pinned vertices on their paths, then runs a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential, and the integrator's velocity update.
 
 use super::{FrameStats, SimError, Simulation, StepStats};
-use crate::energy::{EnergyTerm, PARALLEL_MIN_ELEMENTS};
-use crate::math::UP_AXIS;
-use crate::solver::{Objective, SolverMethod, SolverStats, gradient_descent, newton};
+use crate::energy::{EnergyTerm, PARALLEL_MIN_ELEMENTS, PrescribedMotion};
+use crate::integrator::TimeIntegrator;
+use crate::math::{UP_AXIS, Vector};
+use crate::solver::{Objective, SolveError, SolverMethod, SolverStats, gradient_descent, newton};
 use std::time::Instant;
+
+/// How close to its path a prescribed vertex must come in a step, as a
+/// fraction of the step's largest prescribed displacement, before it is
+/// put on the path (IPC's 1e-3).
+pub const PATH_TOLERANCE: f64 = 1e-3;
+/// The most augmented-Lagrangian rounds (solves) of one step.
+pub const MAX_CONSTRAINT_ROUNDS: usize = 8;
+
+/// The state a step starts from, to take an attempt back.
+struct StepStart<const D: usize> {
+    positions: Vec<Vector<D>>,
+    velocities: Vec<Vector<D>>,
+    integrator: Box<dyn TimeIntegrator<D>>,
+    time: f64,
+}
+
+/// Prescribed vertices that could not be put on their path before the
+/// solve: the term that pulls them, and how close they must come.
+struct LaggingVertices<const D: usize> {
+    term: PrescribedMotion<D>,
+    tolerance: f64,
+}
 
 impl<const D: usize> Simulation<D> {
     /// Advances one step of length `dt` and reports the solver's work and the state reached.
@@ -35,20 +58,72 @@ impl<const D: usize> Simulation<D> {
     fn solve_step(&mut self) -> Result<SolverStats, SimError> {
         let dt = self.settings.dt;
         self.release_pins()?;
-        let previous = self.positions.clone();
+        let start = self.time;
+        let stats = self.advance_by(dt, 0)?;
+        // Frames stay on their schedule however the step was divided.
+        self.time = start + dt;
+        self.steps += 1;
+        Ok(stats)
+    }
+
+    /// Advances by `dt`, `depth` halvings below the scene's step: a step
+    /// that does not converge (iteration cap, a stalled line search, a
+    /// failed solve) is taken back and retried as two half steps, down to
+    /// `solver.max_subdivisions` halvings; only a step that fails at the
+    /// deepest level is kept unconverged (or its error returned).
+    fn advance_by(&mut self, dt: f64, depth: usize) -> Result<SolverStats, SimError> {
+        let start = StepStart {
+            positions: self.positions.clone(),
+            velocities: self.velocities.clone(),
+            integrator: self.integrator.boxed_clone(),
+            time: self.time,
+        };
+        let deepest = depth >= self.settings.solver.max_subdivisions;
+        let failed = match self.attempt_step(dt) {
+            Ok(stats) if stats.converged || deepest => return Ok(stats),
+            Err(error) if deepest => {
+                self.restore(start);
+                return Err(error);
+            }
+            Ok(stats) => Some(stats),
+            Err(_) => None,
+        };
+        let time = start.time;
+        self.restore(start);
+        let half = 0.5 * dt;
+        let first = self.advance_by(half, depth + 1)?;
+        self.time = time + half;
+        let second = self.advance_by(half, depth + 1)?;
+        Ok(SolverStats::subdivided(failed, first, second))
+    }
+
+    fn restore(&mut self, start: StepStart<D>) {
+        self.positions = start.positions;
+        self.velocities = start.velocities;
+        self.integrator = start.integrator;
+        self.time = start.time;
+    }
+
+    /// One attempt at a step of length `dt` from the current state: the
+    /// prescribed vertices placed (as far as is feasible), the terms'
+    /// begin-step hooks, the integrator's prediction, the minimisation
+    /// (with the augmented-Lagrangian rounds where a prescribed vertex
+    /// lags), the velocity update.
+    fn attempt_step(&mut self, dt: f64) -> Result<SolverStats, SimError> {
         let end_time = self.time + dt;
+        let failure = |sim: &Self, reason: String| SimError::SolverFailure {
+            step: sim.steps,
+            time: sim.time,
+            reason,
+        };
         // The scheme starts from x_n (its history and velocity update), even
         // where the solve starts elsewhere.
         self.integrator
             .begin_step(&self.positions, &self.velocities, dt);
-        if let Err(reason) = self.move_pinned(end_time) {
-            self.positions = previous;
-            return Err(SimError::SolverFailure {
-                step: self.steps,
-                time: self.time,
-                reason,
-            });
-        }
+        let lagging = match self.place_prescribed(end_time) {
+            Ok(lagging) => lagging,
+            Err(reason) => return Err(failure(self, reason)),
+        };
         self.elasticity
             .begin_step(&self.positions, &self.velocities);
         for term in &mut self.effect_terms {
@@ -60,6 +135,47 @@ impl<const D: usize> Simulation<D> {
         self.inertia.set_prediction(self.integrator.predicted());
         let weight = self.integrator.potential_weight(dt);
         self.balance_contact_stiffness(weight);
+        let stats = match lagging {
+            None => self.minimise(weight, dt, None),
+            Some(lagging) => self.minimise_with_prescribed(weight, dt, lagging),
+        }
+        .map_err(|e| failure(self, e.to_string()))?;
+        if let Some(vertex) = self
+            .positions
+            .iter()
+            .position(|x| !x.iter().all(|v| v.is_finite()))
+        {
+            return Err(failure(
+                self,
+                format!("vertex {vertex} left the finite numbers"),
+            ));
+        }
+        self.integrator
+            .end_step(&self.positions, &mut self.velocities, dt);
+        // Pinned vertices move at their path's velocity (the schemes' own
+        // update would give a secant); they are not unknowns, so their
+        // predictions never enter a solve.
+        for p in &self.pinned {
+            self.velocities[p.vertex] = self.motions[p.motion].velocity_of(&p.rest, end_time);
+        }
+        self.time = end_time;
+        Ok(stats)
+    }
+
+    /// One minimisation of the step's incremental potential from the
+    /// current positions, with the prescribed-motion term `prescribed` as
+    /// an extra term (its vertices then unknowns: the solve uses the
+    /// Hessian whose unknowns include them).
+    fn minimise(
+        &mut self,
+        weight: f64,
+        dt: f64,
+        prescribed: Option<&mut PrescribedMotion<D>>,
+    ) -> Result<SolverStats, SolveError> {
+        let hessian = match (&prescribed, &mut self.prescribed_hessian) {
+            (Some(_), Some(hessian)) => hessian,
+            _ => &mut self.hessian,
+        };
         let mut terms: Vec<(&mut dyn EnergyTerm<D>, f64)> = vec![(&mut self.inertia, 1.0)];
         terms.push((&mut self.elasticity, weight));
         terms.extend(
@@ -70,12 +186,15 @@ impl<const D: usize> Simulation<D> {
         if let Some(contact) = &mut self.contact {
             terms.push((contact, weight));
         }
+        if let Some(prescribed) = prescribed {
+            terms.push((prescribed, 1.0));
+        }
         let mut objective = Objective::new(terms);
         let solver = self.settings.solver;
-        let result = match solver.method {
+        match solver.method {
             SolverMethod::Newton => newton(
                 &mut objective,
-                &mut self.hessian,
+                hessian,
                 &mut self.positions,
                 dt,
                 solver.tolerance,
@@ -83,7 +202,7 @@ impl<const D: usize> Simulation<D> {
             ),
             SolverMethod::GradientDescent { step } => gradient_descent(
                 &mut objective,
-                self.hessian.free_index(),
+                hessian.free_index(),
                 &self.masses,
                 &mut self.positions,
                 dt,
@@ -91,39 +210,111 @@ impl<const D: usize> Simulation<D> {
                 solver.tolerance,
                 solver.max_iterations,
             ),
-        };
-        drop(objective);
-        let failure = |reason: String| SimError::SolverFailure {
-            step: self.steps,
-            time: self.time,
-            reason,
-        };
-        let stats = match result {
-            Ok(stats) => stats,
-            Err(e) => {
-                self.positions = previous;
-                return Err(failure(e.to_string()));
+        }
+    }
+
+    /// The augmented-Lagrangian rounds of a step whose prescribed vertices
+    /// could not be put on their path before the solve (`energy::
+    /// PrescribedMotion` writes the method out): solve, and until every
+    /// prescribed vertex is within [`PATH_TOLERANCE`] of its step's
+    /// displacement from its target, update the multipliers (and the
+    /// stiffness) and solve again, at most [`MAX_CONSTRAINT_ROUNDS`] times.
+    /// Once within tolerance the vertices are put on their path exactly, if
+    /// that last move is feasible. The step converges only if the solves
+    /// did and the path was reached.
+    fn minimise_with_prescribed(
+        &mut self,
+        weight: f64,
+        dt: f64,
+        lagging: LaggingVertices<D>,
+    ) -> Result<SolverStats, SolveError> {
+        self.ensure_prescribed_hessian()
+            .map_err(SolveError::Factorisation)?;
+        let LaggingVertices {
+            mut term,
+            tolerance,
+        } = lagging;
+        let mut total = SolverStats::default();
+        let mut reached = false;
+        for _ in 0..MAX_CONSTRAINT_ROUNDS {
+            let stats = self.minimise(weight, dt, Some(&mut term))?;
+            total.accumulate(&stats);
+            total.residual = stats.residual;
+            if !stats.converged {
+                total.stalled = stats.stalled;
+                break;
             }
-        };
-        if let Some(vertex) = self
-            .positions
+            if term.largest_error(&self.positions) <= tolerance {
+                reached = true;
+                break;
+            }
+            term.update(&self.positions);
+        }
+        if reached {
+            let mut direction = vec![Vector::<D>::zeros(); self.positions.len()];
+            for &(v, target, _) in term.vertices() {
+                direction[v] = target - self.positions[v];
+            }
+            if self.feasible_fraction(&direction) >= 1.0 {
+                for &(v, target, _) in term.vertices() {
+                    self.positions[v] = target;
+                }
+            }
+        }
+        total.converged = reached;
+        total.constraint_error = Some(term.largest_error(&self.positions));
+        Ok(total)
+    }
+
+    /// The Hessian whose unknowns include the vertices of every region
+    /// moving now, built on first use and kept while those vertices stay
+    /// the same (pins released rebuild it).
+    fn ensure_prescribed_hessian(&mut self) -> Result<(), crate::assembly::FactorisationError> {
+        let moving: Vec<bool> = self
+            .motions
             .iter()
-            .position(|x| !x.iter().all(|v| v.is_finite()))
+            .map(|m| m.is_moving_at(self.time))
+            .collect();
+        let mut prescribed_free = vec![false; self.positions.len()];
+        for p in self.pinned.iter().filter(|p| moving[p.motion]) {
+            prescribed_free[p.vertex] = true;
+        }
+        let mut next = 0;
+        let free_index: Vec<Option<usize>> = self
+            .hessian
+            .free_index()
+            .iter()
+            .zip(&prescribed_free)
+            .map(|(free, &prescribed)| {
+                (free.is_some() || prescribed).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        if self
+            .prescribed_hessian
+            .as_ref()
+            .is_some_and(|h| h.free_index() == free_index.as_slice())
         {
-            self.positions = previous;
-            return Err(failure(format!("vertex {vertex} left the finite numbers")));
+            return Ok(());
         }
-        self.integrator
-            .end_step(&self.positions, &mut self.velocities, dt);
-        // Pinned vertices move at their path's velocity (the schemes' own
-        // update would give a secant); they are not unknowns, so their
-        // predictions never enter a solve.
-        for p in &self.pinned {
-            self.velocities[p.vertex] = self.motions[p.motion].velocity_of(&p.rest, end_time);
+        self.prescribed_hessian = Some(self.hessian.with_free_index(free_index)?);
+        Ok(())
+    }
+
+    /// The largest fraction of the move `direction` every term allows
+    /// (elements kept from inverting where the material forbids it, the
+    /// ground and other surfaces not reached).
+    fn feasible_fraction(&mut self, direction: &[Vector<D>]) -> f64 {
+        let mut cap = self.elasticity.max_step(&self.positions, direction);
+        for term in &mut self.effect_terms {
+            cap = cap.min(term.max_step(&self.positions, direction));
         }
-        self.time += dt;
-        self.steps += 1;
-        Ok(stats)
+        if let Some(contact) = &mut self.contact {
+            cap = cap.min(contact.max_step(&self.positions, direction));
+        }
+        cap
     }
 
     /// Sets the contact stiffness for this step by IPC's balance rule (an
@@ -185,6 +376,7 @@ impl<const D: usize> Simulation<D> {
                 })
             })
             .collect();
+        self.prescribed_hessian = None;
         self.hessian =
             self.hessian
                 .with_free_index(free_index)
@@ -194,62 +386,57 @@ impl<const D: usize> Simulation<D> {
         Ok(())
     }
 
-    /// Puts every pinned vertex on its path at time `t`: the start of the
-    /// solve. A region that moves displaces its vertices before the solve,
-    /// and the line search's guards need a feasible start. When the free
-    /// vertices at `x_n` would leave an element with `J <= 0`, the solve
-    /// starts from the scheme's prediction `x~` for the free vertices
-    /// instead (any feasible start is valid: the minimiser does not depend
-    /// on it). A move that puts a pinned vertex on or below the ground, or
-    /// that inverts an element from both starts, is refused with the reason.
-    fn move_pinned(&mut self, t: f64) -> Result<(), String> {
-        let moving = self.motions.iter().any(|m| m.is_moving_at(self.time));
-        if !moving {
-            return Ok(());
+    /// Puts the vertices of every moving region on their path at time `t`,
+    /// the start of the solve, if every term allows that move (no element
+    /// of a material that forbids inversion loses too much volume, no
+    /// surface reached); otherwise moves them as far as is feasible and
+    /// returns them as lagging, to be pulled the rest of the way within the
+    /// solve ([`Self::minimise_with_prescribed`]). Regions that hold still
+    /// are not touched (their vertices stay at rest, bit for bit). A move
+    /// whose target puts a pinned vertex on or below the ground is refused
+    /// with the reason.
+    fn place_prescribed(&mut self, t: f64) -> Result<Option<LaggingVertices<D>>, String> {
+        let moving: Vec<bool> = self
+            .motions
+            .iter()
+            .map(|m| m.is_moving_at(self.time))
+            .collect();
+        if !moving.iter().any(|&m| m) {
+            return Ok(None);
         }
-        for p in &self.pinned {
-            self.positions[p.vertex] = self.motions[p.motion].position(&p.rest, t);
-        }
-        if let Some(ground) = self.ground_height
-            && let Some(p) = self
-                .pinned
-                .iter()
-                .find(|p| !(self.positions[p.vertex][UP_AXIS] > ground))
-        {
-            return Err(format!(
-                "the prescribed motion of the pinned vertices puts vertex {} at height {} \
-                 at t = {t:.6} s, on or below the ground at {ground}: a pinned region must \
-                 not be driven into the ground",
-                p.vertex, self.positions[p.vertex][UP_AXIS]
-            ));
-        }
-        let j = self.elasticity.min_volume_ratio(&self.positions);
-        if j > 0.0 {
-            return Ok(());
-        }
-        // The free vertices at x_n leave an element next to a region
-        // inverted: start the solve from the scheme's prediction instead (the
-        // free vertices carried along by their velocity), if that is feasible.
-        let predicted = self.integrator.predicted();
-        for (v, free) in self.hessian.free_index().iter().enumerate() {
-            if free.is_some() {
-                self.positions[v] = predicted[v];
+        let mut direction = vec![Vector::<D>::zeros(); self.positions.len()];
+        let mut targets = Vec::new();
+        let mut displacement = 0.0f64;
+        for p in self.pinned.iter().filter(|p| moving[p.motion]) {
+            let target = self.motions[p.motion].position(&p.rest, t);
+            if let Some(ground) = self.ground_height
+                && !(target[UP_AXIS] > ground)
+            {
+                return Err(format!(
+                    "the prescribed motion of the pinned vertices puts vertex {} at height {} \
+                     at t = {t:.6} s, on or below the ground at {ground}: a pinned region must \
+                     not be driven into the ground",
+                    p.vertex, target[UP_AXIS]
+                ));
             }
+            direction[p.vertex] = target - self.positions[p.vertex];
+            displacement = displacement.max(direction[p.vertex].norm());
+            targets.push((p.vertex, target, self.masses[p.vertex]));
         }
-        let above_ground = self
-            .ground_height
-            .is_none_or(|h| self.positions.iter().all(|x| x[UP_AXIS] > h));
-        let j_predicted = self.elasticity.min_volume_ratio(&self.positions);
-        if above_ground && j_predicted > 0.0 {
-            return Ok(());
+        let fraction = self.feasible_fraction(&direction);
+        if fraction >= 1.0 {
+            for &(v, target, _) in &targets {
+                self.positions[v] = target;
+            }
+            return Ok(None);
         }
-        Err(format!(
-            "the prescribed motion of the pinned vertices to t = {t:.6} s inverts an \
-             element before the solve (smallest volume ratio J = {j}, and {j_predicted} \
-             with the free vertices at their predicted positions): the pinned regions \
-             move too far in one step for the free vertices next to them; use a smaller \
-             time step or a slower motion"
-        ))
+        for &(v, _, _) in &targets {
+            self.positions[v] += direction[v] * fraction;
+        }
+        Ok(Some(LaggingVertices {
+            term: PrescribedMotion::new(targets),
+            tolerance: PATH_TOLERANCE * displacement,
+        }))
     }
 
     /// Advances `substeps` steps and summarises them as one output frame.
@@ -261,7 +448,8 @@ impl<const D: usize> Simulation<D> {
     fn advance_frame_here(&mut self, substeps: usize) -> Result<FrameStats<D>, SimError> {
         let start = Instant::now();
         let mut totals = SolverStats::default();
-        let (mut unconverged_steps, mut stalled_steps) = (0, 0);
+        let (mut unconverged_steps, mut stalled_steps, mut subdivided_steps) = (0, 0, 0);
+        let mut boundary_error: Option<f64> = None;
         let contact_before = self.contact.as_ref().map(|c| c.counters());
         for _ in 0..substeps {
             let step = self.solve_step()?;
@@ -272,6 +460,10 @@ impl<const D: usize> Simulation<D> {
             totals.times += step.times;
             unconverged_steps += usize::from(step.hit_iteration_cap());
             stalled_steps += usize::from(step.stalled);
+            subdivided_steps += usize::from(step.subdivided);
+            if let Some(error) = step.constraint_error {
+                boundary_error = Some(boundary_error.map_or(error, |e| e.max(error)));
+            }
         }
         let mut frame = self.frame_stats();
         frame.iterations = totals.iterations;
@@ -280,6 +472,10 @@ impl<const D: usize> Simulation<D> {
         frame.unconverged_steps = unconverged_steps;
         frame.stalled_steps = stalled_steps;
         frame.reanalyses = totals.reanalyses;
+        frame.subdivided_steps = subdivided_steps;
+        if let Some(error) = boundary_error {
+            frame.boundary_error = Some(error);
+        }
         if let (Some(stats), Some(contact), Some(before)) =
             (&mut frame.contact, &self.contact, contact_before)
         {

@@ -25,6 +25,9 @@ pub struct SolverSettings {
     pub tolerance: f64,
     /// Iteration cap per step (default: 50).
     pub max_iterations: usize,
+    /// How many times a step that does not converge may be halved and
+    /// retried (default: 4, down to `dt / 16`); 0 keeps every step whole.
+    pub max_subdivisions: usize,
 }
 
 impl Default for SolverSettings {
@@ -33,6 +36,7 @@ impl Default for SolverSettings {
             method: SolverMethod::Newton,
             tolerance: 1e-4,
             max_iterations: 50,
+            max_subdivisions: 4,
         }
     }
 }

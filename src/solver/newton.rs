@@ -8,7 +8,8 @@
 //!
 //! The line search starts at `t = min(1, t_max)`, where `t_max`
 //! is the largest step every term allows (no vertex reaches the ground, no
-//! element inverts, whatever the material), and halves `t` until the Armijo condition
+//! surface reaches another, no element of a material that forbids inversion
+//! loses more than a fixed fraction of its volume), and halves `t` until the Armijo condition
 //! `E(x + t dx) <= E(x) + c t g.dx` holds (`c = 1e-4`). Energy values carry
 //! round-off of order `eps |E|`, so the test allows that much slack; without it
 //! a converging solve could stall a few ulps short of the tolerance.
@@ -89,7 +90,8 @@ pub fn newton<const D: usize>(
         let slope: f64 = gradient.iter().zip(&direction).map(|(g, d)| g.dot(d)).sum();
         let mut t = objective.max_step(x, &direction);
         let mut accepted = false;
-        // A zero cap (an element held at the inversion floor) leaves no step.
+        // A zero cap (no term's caps are zero by design: round-off at a
+        // contact) leaves no step: the step is reported as stalled.
         let backtracks = if t > 0.0 { MAX_BACKTRACKS + 1 } else { 0 };
         for _ in 0..backtracks {
             for ((xt, xi), di) in trial.iter_mut().zip(x.iter()).zip(&direction) {

@@ -42,6 +42,13 @@ pub struct SolverStats {
     /// decrease along the search direction (it did not meet the tolerance,
     /// and it did not hit the iteration cap either).
     pub stalled: bool,
+    /// Whether the step was taken back and advanced as shorter steps
+    /// (`solver.max_subdivisions`); the counts then cover every attempt.
+    pub subdivided: bool,
+    /// The largest distance of a prescribed vertex from its path at the end
+    /// of the step, for a step whose moving regions had to be pulled onto
+    /// their path within the solve (`None` otherwise: they were put on it).
+    pub constraint_error: Option<f64>,
     /// Final convergence measure of the last iteration (see
     /// [`SolverSettings::tolerance`](super::SolverSettings::tolerance)).
     pub residual: f64,
@@ -50,6 +57,37 @@ pub struct SolverStats {
 }
 
 impl SolverStats {
+    /// Adds the counts and times of `other` (one more solve of the same step).
+    pub fn accumulate(&mut self, other: &SolverStats) {
+        self.iterations += other.iterations;
+        self.linear_solves += other.linear_solves;
+        self.backtracks += other.backtracks;
+        self.reanalyses += other.reanalyses;
+        self.times += other.times;
+    }
+
+    /// A step taken as two halves after the attempt `failed` (`None` if it
+    /// ended in an error): the work of all three, converged if both halves
+    /// did, stalled if it did not and a half stalled.
+    pub fn subdivided(
+        failed: Option<SolverStats>,
+        first: SolverStats,
+        second: SolverStats,
+    ) -> Self {
+        let mut total = failed.unwrap_or_default();
+        total.accumulate(&first);
+        total.accumulate(&second);
+        total.converged = first.converged && second.converged;
+        total.stalled = !total.converged && (first.stalled || second.stalled);
+        total.subdivided = true;
+        total.residual = first.residual.max(second.residual);
+        total.constraint_error = match (first.constraint_error, second.constraint_error) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
+        total
+    }
+
     /// Whether the step hit the iteration cap without meeting the tolerance
     /// (a stalled step is not counted here).
     pub fn hit_iteration_cap(&self) -> bool {

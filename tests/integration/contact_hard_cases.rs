@@ -33,38 +33,16 @@ const MATERIALS: [&str; 4] = [
 
 /// Runs that converge in fewer than 99% of their steps today, and why
 /// (measured with the scenes as they are; each stays intersection-free, with
-/// positive distances and J > 0).
+/// positive distances, and J > 0 for the materials that forbid inversion).
 ///
-/// - St. Venant-Kirchhoff has no barrier against flattening: the impacts and
-///   the crumpling sheet crush elements onto the inversion guard (J = 1e-9)
-///   and almost every later step stalls in the line search or hits the cap
-///   (README, "StVK's limits"; the same as the ground impacts of
-///   `hard_cases.rs`).
-/// - Stable Neo-Hookean and fixed corotated have a finite energy at J = 0: at
-///   the moment of impact 2-3 steps of 90 stall (the inversion or contact cap
-///   leaves the line search no room) or reach the 50-iteration cap, as on the
-///   ground impacts; in 3D at -50 the guard holds an element at J = 1e-9.
-///   Raising `max_iterations` to 1000 does not help (measured in 2D at -50).
-/// - Neo-Hookean at -500 units/s: 3 steps of 90 (the impact frame) reach the
-///   50-iteration cap, while CCD queries exhaust their budget
-///   (`ccd_budget_exhausted` 6 in 2D, 3 in 3D) and keep the steps short; the
-///   ground-only impact-500 cases fall short the same way (97.8%).
+/// Issue 30 (StVK's volume barrier, no J cap for stable Neo-Hookean and
+/// fixed corotated, IPC's relative inversion filter for Neo-Hookean, step
+/// subdivision) took every other case off this list. StVK at -500 units/s
+/// still falls short: its volume barrier is soft against a 500 units/s
+/// impact on a contact barrier, and steps fail even as sixteenths.
 const KNOWN_LIMITS: &[(&str, &str)] = &[
-    ("contact-impact-50-2d", "stvk"),
-    ("contact-impact-50-2d", "stable-neo-hookean"),
-    ("contact-impact-50-2d", "fixed-corotated"),
-    ("contact-impact-50-3d", "stvk"),
-    ("contact-impact-50-3d", "stable-neo-hookean"),
-    ("contact-impact-50-3d", "fixed-corotated"),
     ("contact-impact-500-2d", "stvk"),
-    ("contact-impact-500-2d", "neo-hookean"),
-    ("contact-impact-500-2d", "stable-neo-hookean"),
-    ("contact-impact-500-2d", "fixed-corotated"),
     ("contact-impact-500-3d", "stvk"),
-    ("contact-impact-500-3d", "neo-hookean"),
-    ("contact-impact-500-3d", "stable-neo-hookean"),
-    ("contact-impact-500-3d", "fixed-corotated"),
-    ("contact-sheet-fold-3d", "stvk"),
 ];
 
 fn scene_path(case: &str) -> PathBuf {
@@ -77,6 +55,11 @@ fn scene_value(text: &str, key: &str) -> Option<String> {
         let (k, v) = l.split_once('=')?;
         (k.trim() == key).then(|| v.split('#').next().unwrap().trim().to_owned())
     })
+}
+
+/// Whether `material` allows inversion (its energy is finite at `J <= 0`).
+fn allows_inversion(material: &str) -> bool {
+    matches!(material, "stable-neo-hookean" | "fixed-corotated")
 }
 
 /// The scene's text with every body's material model set to `material`.
@@ -215,7 +198,7 @@ fn check(case: &str, material: &str, r: &Run, failures: &mut Vec<String>) {
     }
     for (f, row) in r.rows.iter().enumerate() {
         for (h, v) in r.header.iter().zip(row) {
-            if h == "min_distance" && v.is_empty() {
+            if (h == "min_distance" || h == "boundary_error") && v.is_empty() {
                 continue;
             }
             if !v.parse::<f64>().is_ok_and(f64::is_finite) {
@@ -225,7 +208,10 @@ fn check(case: &str, material: &str, r: &Run, failures: &mut Vec<String>) {
     }
     for column in ["min_distance", "min_volume_ratio", "min_height"] {
         let worst = r.numbers(column).into_iter().fold(f64::INFINITY, f64::min);
-        if worst.is_nan() || worst <= 0.0 {
+        // Stable Neo-Hookean and fixed corotated may pass through J <= 0
+        // and recover (issue 30): only a finite J is required of them.
+        let may_invert = column == "min_volume_ratio" && allows_inversion(material);
+        if worst.is_nan() || (worst <= 0.0 && !may_invert) {
             failures.push(format!("{name}: {column} reaches {worst}"));
         }
     }

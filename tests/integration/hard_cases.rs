@@ -57,50 +57,14 @@ const INVERTS: Limit = Limit::Fails("inverts an element before the solve");
 
 /// Runs that do not meet the bar today, and why.
 ///
-/// St. Venant-Kirchhoff has no barrier against flattening: the inversion
-/// guard holds crushed elements at `J = 1e-9` and the steps stall (README,
-/// "StVK's limits"). Stable Neo-Hookean and fixed corotated have a finite
-/// energy at `J = 0`: under loads several times their stiffness (1000 g,
-/// `young = 1e-2`, impacts) the guard holds elements flat instead of letting
-/// them invert, and Newton creeps until the iteration cap or a stall. At
-/// -500 units/s even Neo-Hookean needs more than 50 iterations in 1-2 steps
-/// of 90. Under a moving boundary (squash, twist) the elements those three
-/// materials have flattened next to the moving region cannot follow it: the
-/// next prescribed move would invert one before the solve, and the run stops
-/// with that message (exit 1) rather than fold.
+/// Issue 30 emptied most of this list: StVK has a volume barrier below
+/// `J = 0.2`, stable Neo-Hookean and fixed corotated pass through inversion
+/// and recover (no cap on `J`), Neo-Hookean's cap is IPC's relative filter,
+/// steps that do not converge are retried as half steps, and moving regions
+/// reach their path within the solve. The twist entries are left from
+/// before and are checked only by the ignored long test (to be re-measured).
 const KNOWN_LIMITS: &[(&str, &str, Limit)] = &[
-    ("heavy-gravity-2d", "stvk", Limit::Unconverged),
-    ("heavy-gravity-2d", "stable-neo-hookean", Limit::Unconverged),
-    ("heavy-gravity-2d", "fixed-corotated", Limit::Unconverged),
-    ("heavy-gravity-3d", "stvk", Limit::Unconverged),
-    ("heavy-gravity-3d", "stable-neo-hookean", Limit::Unconverged),
-    ("heavy-gravity-3d", "fixed-corotated", Limit::Unconverged),
-    ("impact-50-2d", "stvk", Limit::Unconverged),
-    ("impact-50-2d", "stable-neo-hookean", Limit::Unconverged),
-    ("impact-50-2d", "fixed-corotated", Limit::Unconverged),
-    ("impact-50-3d", "stvk", Limit::Unconverged),
-    ("impact-50-3d", "stable-neo-hookean", Limit::Unconverged),
-    ("impact-50-3d", "fixed-corotated", Limit::Unconverged),
-    ("impact-500-2d", "stvk", Limit::Unconverged),
-    ("impact-500-2d", "neo-hookean", Limit::Unconverged),
-    ("impact-500-2d", "stable-neo-hookean", Limit::Unconverged),
-    ("impact-500-2d", "fixed-corotated", Limit::Unconverged),
-    ("impact-500-3d", "stvk", Limit::Unconverged),
-    ("impact-500-3d", "neo-hookean", Limit::Unconverged),
-    ("impact-500-3d", "stable-neo-hookean", Limit::Unconverged),
-    ("impact-500-3d", "fixed-corotated", Limit::Unconverged),
-    ("report-box-3000", "stvk", Limit::Unconverged),
-    ("soft-3d", "stvk", Limit::Unconverged),
-    ("soft-3d", "stable-neo-hookean", Limit::Unconverged),
-    ("soft-3d", "fixed-corotated", Limit::Unconverged),
-    ("squash-2d", "stvk", INVERTS),
-    ("squash-2d", "stable-neo-hookean", INVERTS),
-    ("squash-2d", "fixed-corotated", INVERTS),
-    ("squash-3d", "stvk", INVERTS),
-    ("squash-3d", "stable-neo-hookean", INVERTS),
-    ("squash-3d", "fixed-corotated", INVERTS),
     ("twist-3d", "stvk", INVERTS),
-    ("twist-3d", "stable-neo-hookean", INVERTS),
     ("twist-3d", "fixed-corotated", INVERTS),
 ];
 
@@ -319,7 +283,7 @@ fn check(first: &CaseRun, again: &CaseRun, failures: &mut Vec<String>) {
             }
             // Empty while no pair of surface primitives is within d_hat
             // (and always without [effects.contact]).
-            if h == "min_distance" && v.is_empty() {
+            if (h == "min_distance" || h == "boundary_error") && v.is_empty() {
                 continue;
             }
             match v.parse::<f64>() {
@@ -338,8 +302,12 @@ fn check(first: &CaseRun, again: &CaseRun, failures: &mut Vec<String>) {
             failures.push(format!("{name}: frame {f}: ground gap {gap}"));
         }
     }
+    // Neo-Hookean and StVK (its volume barrier) forbid inversion: J > 0 in
+    // every frame. Stable Neo-Hookean and fixed corotated may pass through
+    // J <= 0 and recover (issue 30): a finite J in every frame.
+    let may_invert = matches!(first.material, "stable-neo-hookean" | "fixed-corotated");
     for (f, j) in first.values("min_volume_ratio").iter().enumerate() {
-        if j.is_nan() || *j <= 0.0 {
+        if j.is_nan() || (*j <= 0.0 && !may_invert) {
             failures.push(format!("{name}: frame {f}: J = {j}"));
         }
     }

@@ -59,6 +59,7 @@ mod render_pipeline;
 mod render_profile;
 mod render_streaming;
 mod report_example;
+mod robustness;
 mod scene_properties;
 mod scene_validation;
 mod solver_options;

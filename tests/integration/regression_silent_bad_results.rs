@@ -39,6 +39,8 @@ fn steps_at_the_iteration_cap_are_summarised_and_fail_strict_runs() {
         "3",
         "--set",
         "solver.max_iterations=1",
+        "--set",
+        "solver.max_subdivisions=0",
     ];
     let o = elasto(tmp.path(), &[&args[..], &["-o", "lenient", "-q"]].concat());
     assert_code(&o, 0);
@@ -62,24 +64,26 @@ fn steps_at_the_iteration_cap_are_summarised_and_fail_strict_runs() {
     );
     assert_code(&o, 1);
     let err = stderr(&o);
+    // --strict stops at the first frame with an unconverged step, saying so.
     assert!(
         err.starts_with(
-            "error: scene `report-drop-2d` ran with problems (--strict): 20 of 20 steps"
+            "error: scene `report-drop-2d` ran with problems (--strict): frame 1 \
+             (t = 0.033333 s): 10 step(s) hit the iteration cap"
         ),
         "{err}"
     );
     assert_eq!(err.lines().count(), 1, "{err}");
-    // The outputs are complete all the same.
+    // The frames simulated so far are kept.
     let (_, rows) = read_csv(&tmp.path().join("strict/stats.csv"));
-    assert_eq!(rows.len(), 3);
+    assert_eq!(rows.len(), 2);
 }
 
 #[test]
-fn stalled_steps_are_summarised_and_fail_strict_runs() {
+fn a_thrown_soft_stvk_box_no_longer_stalls() {
     // A very soft St. Venant-Kirchhoff box thrown at the ground used to
-    // invert (issue 12). The line search now keeps every element above the
-    // inversion floor, so its energy can no longer decrease: the steps stall,
-    // and that is the health problem summarised here.
+    // invert (issue 12), then, held above a J floor, to stall (issue 30).
+    // Its volume barrier keeps it uninverted and its steps converge: no
+    // health line, no stalled step.
     let tmp = tempfile::tempdir().unwrap();
     let args = [
         "run",
@@ -99,28 +103,20 @@ fn stalled_steps_are_summarised_and_fail_strict_runs() {
     let o = elasto(tmp.path(), &args);
     assert_code(&o, 0);
     let err = stderr(&o);
-    let line = health_line(&err).unwrap_or_else(|| panic!("no health line in: {err}"));
+    assert!(health_line(&err).is_none(), "{err}");
     let (header, rows) = read_csv(&tmp.path().join("thrown/stats.csv"));
     let column = |name: &str| header.iter().position(|h| h == name).unwrap();
     let stalled: usize = rows
         .iter()
         .map(|r| r[column("stalled_steps")].parse::<usize>().unwrap())
         .sum();
-    assert!(stalled > 0, "the thrown box should stall: {line}");
-    // The summary's count is the stats file's.
-    assert!(
-        line.contains(&format!(
-            "0 of 90 steps hit the iteration cap (max_iterations = 50), {stalled} stalled in the line search"
-        )),
-        "{stalled} stalled steps in stats.csv: {line}"
-    );
-    assert!(!line.contains("inverted elements"), "{line}");
+    assert_eq!(stalled, 0, "the thrown box stalled: {err}");
     for row in &rows {
         let j: f64 = row[column("min_volume_ratio")].parse().unwrap();
         assert!(j > 0.0, "an element inverted: {row:?}");
     }
 
+    // Healthy, so --strict passes too.
     let o = elasto(tmp.path(), &[&args[..], &["--strict"]].concat());
-    assert_code(&o, 1);
-    assert!(stderr(&o).contains("stalled"), "{}", stderr(&o));
+    assert_code(&o, 0);
 }

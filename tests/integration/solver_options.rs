@@ -50,6 +50,7 @@ fn gradient_descent_reaches_the_newton_solution_at_far_greater_cost() {
         method: SolverMethod::GradientDescent { step: 1e-5 },
         tolerance,
         max_iterations: 1_000_000,
+        max_subdivisions: 0,
     };
     let mut descent = falling_box(descent_settings, false);
     let descent_stats = descent.step().unwrap().solver;
@@ -79,6 +80,7 @@ fn the_iteration_cap_is_reported_not_fatal() {
         SolverSettings {
             max_iterations: 1,
             tolerance: 1e-12,
+            max_subdivisions: 0,
             ..Default::default()
         },
         true,
