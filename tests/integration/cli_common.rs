@@ -81,6 +81,8 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "ccd_ms",
     "ccd_budget_exhausted",
     "reanalyses",
+    "subdivided_steps",
+    "boundary_error",
     "render_ms",
     "encode_ms",
 ];

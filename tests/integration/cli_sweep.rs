@@ -291,6 +291,8 @@ fn a_failing_run_does_not_stop_the_others_and_the_sweep_exits_1() {
             "report-drop-2d",
             "--vary",
             "solver.max_iterations=50,1,50",
+            "--set",
+            "solver.max_subdivisions=0",
             "--strict",
             "--frames",
             "3",
