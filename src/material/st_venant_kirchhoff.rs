@@ -37,7 +37,8 @@
 //! barrier leaves StVK exactly as the report wrote it wherever `J >= J^`,
 //! is one smooth scalar function of `J` whose Hessian goes through the
 //! kernel's existing projection, and is what the hard-case suite measured
-//! (every StVK case that froze or folded now settles). The extension would
+//! (every ground-only StVK hard case that froze or stalled now converges;
+//! the contact impacts at -500 units/s still fall short). The extension would
 //! make StVK a third material that inverts and recovers, beside stable
 //! Neo-Hookean and fixed corotated, which are designed for it. (Irving et
 //! al. 2004 clamp the stress without an energy, which a minimisation

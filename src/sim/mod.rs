@@ -13,8 +13,10 @@
 //! gravity, the ground barrier, the contact barrier between and within bodies). Its stationarity condition
 //! `M (x - x_pred) / dt^2 = -grad U(x)` is exactly backward Euler. Pinned
 //! vertices are removed from the unknowns; at the start of each step they are
-//! put on their region's prescribed path (`pin_region.rs`) and, after the
-//! solve, given the path's velocity.
+//! put on their region's prescribed path (`pin_region.rs`), or, where that
+//! move is not feasible, moved part of the way and pulled onto the path
+//! within the solve (`energy::PrescribedMotion`); after the solve they get
+//! the path's velocity.
 //!
 //! Files: `simulation.rs` (the state and its measures), `body.rs` (one body
 //! of a scene), `pin_region.rs` (a pinned region and its rigid path),

@@ -1,4 +1,4 @@
-//! Advancing a simulation: one step frees the pinned regions whose release time has come, puts the pinned vertices on their paths, then runs a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential, and the integrator's velocity update.
+//! Advancing a simulation: one step frees the pinned regions whose release time has come, puts the moving pinned vertices on their paths (as far as is feasible; the rest within the solve, by an augmented Lagrangian), then runs a begin-step hook on every term, the integrator's prediction, one minimisation of the incremental potential and the integrator's velocity update; a step that does not converge is retried as two half steps.
 
 use super::{FrameStats, SimError, Simulation, StepStats};
 use crate::energy::{EnergyTerm, PARALLEL_MIN_ELEMENTS, PrescribedMotion};
@@ -270,28 +270,18 @@ impl<const D: usize> Simulation<D> {
     /// moving now, built on first use and kept while those vertices stay
     /// the same (pins released rebuild it).
     fn ensure_prescribed_hessian(&mut self) -> Result<(), crate::assembly::FactorisationError> {
-        let moving: Vec<bool> = self
-            .motions
-            .iter()
-            .map(|m| m.is_moving_at(self.time))
-            .collect();
+        let moving = self.moving_regions();
         let mut prescribed_free = vec![false; self.positions.len()];
         for p in self.pinned.iter().filter(|p| moving[p.motion]) {
             prescribed_free[p.vertex] = true;
         }
-        let mut next = 0;
-        let free_index: Vec<Option<usize>> = self
-            .hessian
-            .free_index()
-            .iter()
-            .zip(&prescribed_free)
-            .map(|(free, &prescribed)| {
-                (free.is_some() || prescribed).then(|| {
-                    next += 1;
-                    next - 1
-                })
-            })
-            .collect();
+        let free_index = number_unknowns(
+            self.hessian
+                .free_index()
+                .iter()
+                .zip(&prescribed_free)
+                .map(|(free, &prescribed)| free.is_some() || prescribed),
+        );
         if self
             .prescribed_hessian
             .as_ref()
@@ -301,6 +291,14 @@ impl<const D: usize> Simulation<D> {
         }
         self.prescribed_hessian = Some(self.hessian.with_free_index(free_index)?);
         Ok(())
+    }
+
+    /// For each pinned region, whether it moves in the step starting now.
+    fn moving_regions(&self) -> Vec<bool> {
+        self.motions
+            .iter()
+            .map(|m| m.is_moving_at(self.time))
+            .collect()
     }
 
     /// The largest fraction of the move `direction` every term allows
@@ -366,16 +364,7 @@ impl<const D: usize> Simulation<D> {
         for p in &self.pinned {
             is_pinned[p.vertex] = true;
         }
-        let mut next = 0;
-        let free_index: Vec<Option<usize>> = is_pinned
-            .iter()
-            .map(|&pinned| {
-                (!pinned).then(|| {
-                    next += 1;
-                    next - 1
-                })
-            })
-            .collect();
+        let free_index = number_unknowns(is_pinned.iter().map(|&pinned| !pinned));
         self.prescribed_hessian = None;
         self.hessian =
             self.hessian
@@ -396,11 +385,7 @@ impl<const D: usize> Simulation<D> {
     /// whose target puts a pinned vertex on or below the ground is refused
     /// with the reason.
     fn place_prescribed(&mut self, t: f64) -> Result<Option<LaggingVertices<D>>, String> {
-        let moving: Vec<bool> = self
-            .motions
-            .iter()
-            .map(|m| m.is_moving_at(self.time))
-            .collect();
+        let moving = self.moving_regions();
         if !moving.iter().any(|&m| m) {
             return Ok(None);
         }
@@ -488,6 +473,20 @@ impl<const D: usize> Simulation<D> {
         frame.wall_time = start.elapsed();
         Ok(frame)
     }
+}
+
+/// The unknowns' numbering of a free index: `Some(k)` for the `k`-th vertex
+/// that `is_unknown`, `None` for the others.
+fn number_unknowns(is_unknown: impl Iterator<Item = bool>) -> Vec<Option<usize>> {
+    let mut next = 0;
+    is_unknown
+        .map(|unknown| {
+            unknown.then(|| {
+                next += 1;
+                next - 1
+            })
+        })
+        .collect()
 }
 
 /// Runs `work` on a thread of rayon's pool and waits for it, if `parallel`
