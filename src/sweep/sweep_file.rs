@@ -15,6 +15,7 @@
 
 use super::SweepError;
 use super::vary::{VaryAxis, axis_from_toml};
+use crate::input_file::{MAX_SETTINGS_FILE_BYTES, read_regular_text_file};
 use std::path::{Path, PathBuf};
 
 /// A parsed sweep file.
@@ -49,9 +50,11 @@ pub fn is_sweep_file(path: &Path) -> bool {
 impl SweepFile {
     /// Reads and checks a sweep file.
     pub fn read(path: &Path) -> Result<Self, SweepError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SweepError::ReadFile {
-            path: path.to_owned(),
-            source,
+        let text = read_regular_text_file(path, MAX_SETTINGS_FILE_BYTES).map_err(|source| {
+            SweepError::ReadFile {
+                path: path.to_owned(),
+                source,
+            }
         })?;
         Self::parse(&text, path)
     }

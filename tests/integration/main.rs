@@ -47,6 +47,7 @@ mod moving_boundaries;
 mod readme_manual;
 mod regression_bad_input_caught_late;
 mod regression_gradient_descent_never_moved;
+mod regression_input_file_blocked_or_hid_its_cause;
 mod regression_interrupt_left_partial_video;
 mod regression_loose_tolerance_froze_the_body;
 mod regression_silent_bad_results;
