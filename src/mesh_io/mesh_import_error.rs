@@ -74,6 +74,24 @@ pub enum MeshImportError {
         /// What was still expected.
         expected: String,
     },
+    /// A count in the file's header that the rest of the file cannot hold:
+    /// refused before anything is allocated for it.
+    #[error(
+        "{}{location}: the file declares {count} {what}, more than the {bytes_left} bytes after this point can hold (the file is truncated or the count is wrong)",
+        path.display()
+    )]
+    CountBeyondFile {
+        /// The file.
+        path: PathBuf,
+        /// Where the count is.
+        location: Location,
+        /// The count as declared.
+        count: u64,
+        /// What is counted ("nodes", "attributes per point", ...).
+        what: String,
+        /// The bytes the file has left.
+        bytes_left: usize,
+    },
     /// A value or keyword that does not fit the format.
     #[error("{}{location}: {reason}", path.display())]
     Syntax {
