@@ -68,7 +68,14 @@ fn a_named_pipe_as_scene_or_sweep_file_is_refused() {
     );
     refused_at_once(
         tmp.path(),
-        &["sweep", "s.toml", "--vary", "material.young=100,200", "-o", "out"],
+        &[
+            "sweep",
+            "s.toml",
+            "--vary",
+            "material.young=100,200",
+            "-o",
+            "out",
+        ],
         &words,
     );
 }
@@ -104,7 +111,10 @@ fn an_unreadable_mesh_file_is_named_with_the_os_cause() {
     )
     .unwrap();
     for (mesh, cause) in [
-        ("folder.msh", "folder.msh: it is a folder, not a regular file"),
+        (
+            "folder.msh",
+            "folder.msh: it is a folder, not a regular file",
+        ),
         ("loop.msh", "loop.msh: Too many levels of symbolic links"),
         ("dangling.msh", "dangling.msh: No such file or directory"),
         ("missing.msh", "missing.msh: No such file or directory"),
