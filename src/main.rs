@@ -2,6 +2,7 @@
 
 use clap::Parser;
 use elasto::app::{Cli, run};
+use std::io::Write;
 
 fn main() {
     if std::env::var_os("NODEVICE_SELECT").is_none() {
@@ -23,10 +24,20 @@ fn main() {
     }
     #[cfg(unix)]
     exit_on_interrupt();
-    let cli = Cli::parse();
+    let cli = parse_command_line();
     if let Err(error) = run(cli) {
+        if error.is_broken_pipe() {
+            // The reader of the pipe has gone (`elasto scenes | head -1`):
+            // nothing is left to say, and no one to say it to.
+            std::process::exit(0);
+        }
         let code = error.exit_code();
-        eprintln!("error: {}", chain(&anyhow::Error::new(error)));
+        // Not eprintln!: it panics when stderr cannot be written either.
+        let _ = writeln!(
+            std::io::stderr(),
+            "error: {}",
+            chain(&anyhow::Error::new(error))
+        );
         std::process::exit(code);
     }
 }
@@ -67,6 +78,35 @@ fn exit_on_interrupt() {
             unsafe { libc::_exit(128 + signal) };
         }
     });
+}
+
+/// The command line, or the end of the process: `--help` and `--version`
+/// print and exit 0 (exit 1 with a message when standard output cannot be
+/// written, as every command does), a bad command line exits 2.
+fn parse_command_line() -> Cli {
+    let error = match Cli::try_parse() {
+        Ok(cli) => return cli,
+        Err(error) => error,
+    };
+    use clap::error::ErrorKind;
+    if !matches!(
+        error.kind(),
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion
+    ) {
+        error.exit();
+    }
+    let printed = error.print().and_then(|()| std::io::stdout().flush());
+    match printed {
+        Ok(()) => std::process::exit(0),
+        Err(cause) if cause.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(cause) => {
+            let _ = writeln!(
+                std::io::stderr(),
+                "error: cannot write to standard output: {cause}"
+            );
+            std::process::exit(1);
+        }
+    }
 }
 
 /// The error and its causes on one line, as `{:#}` prints them, leaving out

@@ -35,11 +35,17 @@ use std::time::Duration;
 pub fn sweep(args: &SweepArgs) -> Result<(), AppError> {
     let plan = SweepPlan::new(args)?;
     if args.list {
+        let mut list = String::new();
         for &i in &plan.selected {
             let run = &plan.runs[i];
-            println!("{}\t{}\t{}", run.index, run.folder_name(), run.label());
+            list.push_str(&format!(
+                "{}\t{}\t{}\n",
+                run.index,
+                run.folder_name(),
+                run.label()
+            ));
         }
-        return Ok(());
+        return super::standard_output::print(&list);
     }
     let actions = plan.check_folders(args.force && !args.collect)?;
     if !args.collect {

@@ -52,6 +52,7 @@ mod regression_interrupt_left_partial_video;
 mod regression_loose_tolerance_froze_the_body;
 mod regression_mesh_header_counts_trusted;
 mod regression_silent_bad_results;
+mod regression_stdout_write_panicked;
 mod regression_stvk_folded_inside_out;
 mod regression_writes_outside_output_folder;
 mod render_devices;
