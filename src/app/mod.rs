@@ -23,6 +23,7 @@ mod scenes_command;
 mod standard_output;
 mod study_command;
 mod sweep_command;
+mod thread_count;
 
 pub use app_error::AppError;
 pub use cli::{
@@ -38,6 +39,7 @@ use preflight::SceneInput;
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<(), AppError> {
+    thread_count::configure_threads()?;
     match cli.command {
         Command::Run(args) => run_command::run(&args),
         Command::Scenes(args) => standard_output::print(&scenes_command::scenes(&args)?),
