@@ -42,25 +42,25 @@ fn main() {
     }
 }
 
-/// On SIGINT or SIGTERM: stop the encoders, remove the partial frames and
-/// videos (frames already complete stay), say so, and exit with 128 + the
-/// signal number (130, 143), the code a shell shows for a process the signal
-/// killed.
+/// On SIGINT, SIGTERM or SIGHUP (a closed terminal, a dropped ssh session):
+/// stop the encoders, remove the partial frames and videos (frames already
+/// complete stay), say so, and exit with 128 + the signal number (130, 143,
+/// 129), the code a shell shows for a process the signal killed.
 #[cfg(unix)]
 fn exit_on_interrupt() {
-    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     use std::io::IsTerminal;
     // Without a handler the signals keep their default action.
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
         return;
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
             elasto::render::remove_partial_files();
-            let name = if signal == SIGINT {
-                "SIGINT"
-            } else {
-                "SIGTERM"
+            let name = match signal {
+                SIGINT => "SIGINT",
+                SIGHUP => "SIGHUP",
+                _ => "SIGTERM",
             };
             // A progress bar may hold the terminal's last line.
             let newline = if std::io::stderr().is_terminal() {
@@ -68,7 +68,10 @@ fn exit_on_interrupt() {
             } else {
                 ""
             };
-            eprintln!(
+            // Not eprintln!: after SIGHUP the terminal may be gone, and a
+            // panic here would leave the process running.
+            let _ = writeln!(
+                std::io::stderr(),
                 "{newline}error: interrupted by {name}; frames already written are kept, \
                  partial frames and videos removed"
             );
