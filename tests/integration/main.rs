@@ -46,6 +46,7 @@ mod mesh_import;
 mod moving_boundaries;
 mod readme_manual;
 mod regression_bad_input_caught_late;
+mod regression_full_disk_left_cut_files;
 mod regression_gradient_descent_never_moved;
 mod regression_input_file_blocked_or_hid_its_cause;
 mod regression_interrupt_left_partial_video;
