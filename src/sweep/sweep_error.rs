@@ -74,6 +74,16 @@ pub enum SweepError {
         /// The run folder.
         folder: PathBuf,
     },
+    /// The sweep's folder holds files, but nothing a sweep writes.
+    #[error(
+        "the sweep folder {} is not empty and was not made by elasto sweep (it has no sweep.json and no run folder with {}); choose another folder with --out, or give --force to write the sweep's files in it",
+        folder.display(),
+        super::RUN_RECORD_FILE
+    )]
+    NotASweepFolder {
+        /// The folder.
+        folder: PathBuf,
+    },
     /// A flag's value is out of range.
     #[error("`{flag}`: {reason}")]
     BadFlag {

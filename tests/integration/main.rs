@@ -56,6 +56,7 @@ mod regression_rayon_threads_unchecked;
 mod regression_silent_bad_results;
 mod regression_stdout_write_panicked;
 mod regression_stvk_folded_inside_out;
+mod regression_sweep_overwrote_a_foreign_folder;
 mod regression_writes_outside_output_folder;
 mod render_devices;
 mod render_export;
