@@ -9,7 +9,7 @@
 //! materials. Contact geometry ([`contact`]: collision mesh, broad phase,
 //! distances, CCD) sits beside [`assembly`], below the energy terms.
 //!
-//! The modules form layers, lowest first: `math` → `mesh`, `material` →
+//! The modules form layers, lowest first: `math`, `input_file` → `mesh`, `material` →
 //! `assembly`, `contact`, `mesh_io` → `energy`, `finite_volume` → `solver` → `integrator` → `sim` → `output`,
 //! `render`, `compare`, `study` → `scene` → `sweep` → `app`. No module refers to a layer above
 //! its own; `tests/integration/layering.rs` holds the order and enforces it.
@@ -22,6 +22,7 @@ pub mod assembly;
 pub mod contact;
 pub mod energy;
 pub mod finite_volume;
+pub mod input_file;
 pub mod integrator;
 pub mod material;
 pub mod math;

@@ -2,6 +2,7 @@
 
 use clap::Parser;
 use elasto::app::{Cli, run};
+use std::io::Write;
 
 fn main() {
     if std::env::var_os("NODEVICE_SELECT").is_none() {
@@ -23,33 +24,43 @@ fn main() {
     }
     #[cfg(unix)]
     exit_on_interrupt();
-    let cli = Cli::parse();
+    let cli = parse_command_line();
     if let Err(error) = run(cli) {
+        if error.is_broken_pipe() {
+            // The reader of the pipe has gone (`elasto scenes | head -1`):
+            // nothing is left to say, and no one to say it to.
+            std::process::exit(0);
+        }
         let code = error.exit_code();
-        eprintln!("error: {}", chain(&anyhow::Error::new(error)));
+        // Not eprintln!: it panics when stderr cannot be written either.
+        let _ = writeln!(
+            std::io::stderr(),
+            "error: {}",
+            chain(&anyhow::Error::new(error))
+        );
         std::process::exit(code);
     }
 }
 
-/// On SIGINT or SIGTERM: stop the encoders, remove the partial frames and
-/// videos (frames already complete stay), say so, and exit with 128 + the
-/// signal number (130, 143), the code a shell shows for a process the signal
-/// killed.
+/// On SIGINT, SIGTERM or SIGHUP (a closed terminal, a dropped ssh session):
+/// stop the encoders, remove the partial frames and videos (frames already
+/// complete stay), say so, and exit with 128 + the signal number (130, 143,
+/// 129), the code a shell shows for a process the signal killed.
 #[cfg(unix)]
 fn exit_on_interrupt() {
-    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     use std::io::IsTerminal;
     // Without a handler the signals keep their default action.
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
         return;
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
             elasto::render::remove_partial_files();
-            let name = if signal == SIGINT {
-                "SIGINT"
-            } else {
-                "SIGTERM"
+            let name = match signal {
+                SIGINT => "SIGINT",
+                SIGHUP => "SIGHUP",
+                _ => "SIGTERM",
             };
             // A progress bar may hold the terminal's last line.
             let newline = if std::io::stderr().is_terminal() {
@@ -57,7 +68,10 @@ fn exit_on_interrupt() {
             } else {
                 ""
             };
-            eprintln!(
+            // Not eprintln!: after SIGHUP the terminal may be gone, and a
+            // panic here would leave the process running.
+            let _ = writeln!(
+                std::io::stderr(),
                 "{newline}error: interrupted by {name}; frames already written are kept, \
                  partial frames and videos removed"
             );
@@ -67,6 +81,35 @@ fn exit_on_interrupt() {
             unsafe { libc::_exit(128 + signal) };
         }
     });
+}
+
+/// The command line, or the end of the process: `--help` and `--version`
+/// print and exit 0 (exit 1 with a message when standard output cannot be
+/// written, as every command does), a bad command line exits 2.
+fn parse_command_line() -> Cli {
+    let error = match Cli::try_parse() {
+        Ok(cli) => return cli,
+        Err(error) => error,
+    };
+    use clap::error::ErrorKind;
+    if !matches!(
+        error.kind(),
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion
+    ) {
+        error.exit();
+    }
+    let printed = error.print().and_then(|()| std::io::stdout().flush());
+    match printed {
+        Ok(()) => std::process::exit(0),
+        Err(cause) if cause.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(cause) => {
+            let _ = writeln!(
+                std::io::stderr(),
+                "error: cannot write to standard output: {cause}"
+            );
+            std::process::exit(1);
+        }
+    }
 }
 
 /// The error and its causes on one line, as `{:#}` prints them, leaving out

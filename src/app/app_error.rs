@@ -99,6 +99,13 @@ pub enum AppError {
         /// Runs in the study.
         total: usize,
     },
+    /// The command's report could not be written to standard output (a full
+    /// disk, a closed pipe); the files it wrote are kept.
+    #[error("cannot write to standard output: {source}")]
+    Stdout {
+        /// The I/O error.
+        source: std::io::Error,
+    },
     /// The work-precision plot could not be drawn.
     #[error("cannot draw study.png: {reason}")]
     Plot {
@@ -108,6 +115,13 @@ pub enum AppError {
 }
 
 impl AppError {
+    /// True when standard output is a pipe whose reader has gone (`elasto
+    /// scenes | head -1`): the command has nothing left to say and ends
+    /// quietly.
+    pub fn is_broken_pipe(&self) -> bool {
+        matches!(self, AppError::Stdout { source } if source.kind() == std::io::ErrorKind::BrokenPipe)
+    }
+
     /// The process exit code: 2 for bad input (scene, flags, mesh, an
     /// existing output folder, comparison inputs), 1 for a failure while
     /// working (solver, renderer, writing a file, frames that differ).
@@ -135,7 +149,8 @@ impl AppError {
             | AppError::FramesDiffer { .. }
             | AppError::StudyReference { .. }
             | AppError::StudyRunsFailed { .. }
-            | AppError::Plot { .. } => 1,
+            | AppError::Plot { .. }
+            | AppError::Stdout { .. } => 1,
         }
     }
 }

@@ -48,7 +48,7 @@ pub fn compare(args: &CompareArgs) -> Result<(), AppError> {
     };
     let report = compare_directories(&args.golden, &args.frames, &diff, &thresholds)
         .map_err(AppError::Compare)?;
-    print!("{}", report.table());
+    super::standard_output::print(&report.table())?;
     if report.all_passed() {
         Ok(())
     } else {

@@ -20,8 +20,10 @@ mod run_command;
 mod run_health;
 mod run_profile;
 mod scenes_command;
+mod standard_output;
 mod study_command;
 mod sweep_command;
+mod thread_count;
 
 pub use app_error::AppError;
 pub use cli::{
@@ -37,16 +39,11 @@ use preflight::SceneInput;
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<(), AppError> {
+    thread_count::configure_threads()?;
     match cli.command {
         Command::Run(args) => run_command::run(&args),
-        Command::Scenes(args) => {
-            print!("{}", scenes_command::scenes(&args)?);
-            Ok(())
-        }
-        Command::Check(args) => {
-            print!("{}", check_command::check(&args)?);
-            Ok(())
-        }
+        Command::Scenes(args) => standard_output::print(&scenes_command::scenes(&args)?),
+        Command::Check(args) => standard_output::print(&check_command::check(&args)?),
         Command::Compare(args) => compare_command::compare(&args),
         Command::Sweep(args) => sweep_command::sweep(&args),
         Command::Study(args) => study_command::study(&args),

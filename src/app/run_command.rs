@@ -344,14 +344,19 @@ fn run_scene<const D: usize>(
         let _ = log.abandon();
         return Err(error);
     }
-    if let (Some(start), Some(profile)) = (plan.profile, &log.profile) {
-        let spans = RunSpans {
-            run: start.span(),
-            rendering,
-            frames: frames_span,
-        };
-        print!("{}", profile.table(&spans, cores()));
-    }
+    // A table that cannot be written is reported after the run's own lines:
+    // its files are complete either way.
+    let table_written = match (plan.profile, &log.profile) {
+        (Some(start), Some(profile)) => {
+            let spans = RunSpans {
+                run: start.span(),
+                rendering,
+                frames: frames_span,
+            };
+            super::standard_output::print(&profile.table(&spans, cores()))
+        }
+        _ => Ok(()),
+    };
 
     if plan.progress != ProgressMode::Quiet {
         let mut wrote = vec!["scene.toml".to_owned(), "stats.csv".to_owned()];
@@ -383,7 +388,7 @@ fn run_scene<const D: usize>(
         }
         eprintln!("warning: {name}: health: {summary}");
     }
-    Ok(())
+    table_written
 }
 
 /// `stats.csv` rows waiting for their frame's rendering times, and the

@@ -238,7 +238,8 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
     let rgba = image::DynamicImage::ImageRgb8(image).into_rgba8();
     crate::render::write_png(&out.join("study.png"), &rgba).map_err(AppError::Render)?;
 
-    print!("{}", convergence_report(&table));
+    // The files are complete: a report that cannot be written is said last.
+    let report_written = super::standard_output::print(&convergence_report(&table));
     say(format!(
         "study: wrote {} in {}",
         STUDY_FILES.join(", "),
@@ -254,7 +255,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
             total: runs.len(),
         });
     }
-    Ok(())
+    report_written
 }
 
 /// The reference's overrides: the finest step divided by 4 (`time.substeps

@@ -35,11 +35,20 @@ use std::time::Duration;
 pub fn sweep(args: &SweepArgs) -> Result<(), AppError> {
     let plan = SweepPlan::new(args)?;
     if args.list {
+        let mut list = String::new();
         for &i in &plan.selected {
             let run = &plan.runs[i];
-            println!("{}\t{}\t{}", run.index, run.folder_name(), run.label());
+            list.push_str(&format!(
+                "{}\t{}\t{}\n",
+                run.index,
+                run.folder_name(),
+                run.label()
+            ));
         }
-        return Ok(());
+        return super::standard_output::print(&list);
+    }
+    if !args.force {
+        plan.check_sweep_folder()?;
     }
     let actions = plan.check_folders(args.force && !args.collect)?;
     if !args.collect {
@@ -229,6 +238,41 @@ impl SweepPlan {
 
     /// Decides, for every selected run, whether to run it; a folder that
     /// holds another run or something else is an error unless `force`.
+    /// Refuses an output folder that holds files but is not a sweep's: one
+    /// with neither `sweep.json` nor a run folder (a folder named like one of
+    /// this sweep's runs, or being made under its staging name, as shards
+    /// running at once do, or one holding a run record). A user's own `sweep.csv` must not be overwritten
+    /// without `--force`; a run folder is checked on its own later.
+    fn check_sweep_folder(&self) -> Result<(), SweepError> {
+        let Ok(entries) = std::fs::read_dir(&self.out) else {
+            // Missing (made later), or not a folder (refused by check_folders).
+            return Ok(());
+        };
+        let run_folders: BTreeSet<String> = self.runs.iter().map(|run| run.folder_name()).collect();
+        let mut empty = true;
+        for entry in entries.flatten() {
+            empty = false;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            let is_folder = entry.file_type().is_ok_and(|kind| kind.is_dir());
+            // A run folder being made is `.NAME.partial` (see `start_record`).
+            let staged = name
+                .strip_prefix('.')
+                .and_then(|rest| rest.strip_suffix(".partial"))
+                .unwrap_or(&name);
+            let is_run_folder = is_folder
+                && (run_folders.contains(staged) || entry.path().join(RUN_RECORD_FILE).is_file());
+            if name == "sweep.json" || is_run_folder {
+                return Ok(());
+            }
+        }
+        if empty {
+            return Ok(());
+        }
+        Err(SweepError::NotASweepFolder {
+            folder: self.out.clone(),
+        })
+    }
+
     fn check_folders(&self, force: bool) -> Result<Vec<(usize, Action)>, SweepError> {
         if self.out.exists() && !self.out.is_dir() {
             return Err(SweepError::ForeignFolder {

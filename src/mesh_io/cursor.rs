@@ -63,6 +63,30 @@ impl<'a> Cursor<'a> {
         }
     }
 
+    /// Refuses a declared `count` of items, each taking at least
+    /// `bytes_each` bytes, that the rest of the file cannot hold: a header
+    /// that declares 10^12 nodes in a 100-byte file is an error before any
+    /// allocation. `what` names the items ("nodes").
+    pub fn declared_count(
+        &self,
+        count: u64,
+        bytes_each: u64,
+        what: impl FnOnce() -> String,
+    ) -> Result<(), MeshImportError> {
+        let bytes_left = self.bytes.len() - self.pos;
+        // The last item needs no separator after it.
+        if count.saturating_mul(bytes_each) > bytes_left as u64 + 1 {
+            return Err(MeshImportError::CountBeyondFile {
+                path: self.path.to_owned(),
+                location: self.location(),
+                count,
+                what: what(),
+                bytes_left,
+            });
+        }
+        Ok(())
+    }
+
     /// Skips whitespace and comments, counting lines.
     fn skip_space(&mut self) {
         while let Some(&b) = self.bytes.get(self.pos) {
@@ -199,6 +223,12 @@ impl<'a> Cursor<'a> {
             None => Err(self.truncated(what())),
         }
     }
+}
+
+/// The fewest bytes `numbers` numbers take as text: a digit and a separator
+/// each (saturating: a header's own counts may be absurd).
+pub(crate) fn text_bytes(numbers: u64) -> u64 {
+    numbers.saturating_mul(2)
 }
 
 /// Byte order of binary data.

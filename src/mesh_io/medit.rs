@@ -9,7 +9,7 @@
 //! ...) are skipped up to the next keyword; elements other than the
 //! requested simplices are counted.
 
-use super::cursor::Cursor;
+use super::cursor::{Cursor, text_bytes};
 use super::imported_mesh::{MeshBuilder, Numbering, Shape};
 use super::{ImportedMesh, MeshImportError};
 use std::path::Path;
@@ -95,6 +95,9 @@ pub(crate) fn read(
             None => {
                 let d =
                     file_dimension.ok_or_else(|| cursor.syntax("`Vertices` before `Dimension`"))?;
+                // Each vertex: its coordinates and a reference.
+                cursor
+                    .declared_count(count as u64, text_bytes(d as u64 + 1), || "vertices".into())?;
                 builder.reserve_points(count);
                 for k in 0..count {
                     let what = || format!("vertex {} of {count}", k + 1);
@@ -110,6 +113,10 @@ pub(crate) fn read(
                 }
             }
             Some((nodes, shape)) => {
+                // Each element: its vertex numbers and a reference.
+                cursor.declared_count(count as u64, text_bytes(nodes as u64 + 1), || {
+                    keyword.to_ascii_lowercase()
+                })?;
                 let mut vertices = vec![0i64; nodes];
                 for k in 0..count {
                     let what = || format!("{} {} of {count}", keyword, k + 1);

@@ -1,6 +1,7 @@
 //! Errors of reading and cleaning a mesh file: each names the file, and the
 //! line (text), byte (binary data), element or vertex where it went wrong.
 
+use crate::input_file::InputFileError;
 use crate::mesh::MeshError;
 use std::fmt;
 use std::path::PathBuf;
@@ -33,13 +34,14 @@ impl fmt::Display for Location {
 /// numbers, VTU indices), so that they can be looked up in the file.
 #[derive(Debug, thiserror::Error)]
 pub enum MeshImportError {
-    /// The file (or its TetGen partner) cannot be read.
-    #[error("cannot read mesh file {}", path.display())]
+    /// The file (or its TetGen partner) cannot be read: the OS refused, it
+    /// is not a regular file, or it is too large.
+    #[error("cannot read mesh file {}: {source}", path.display())]
     Io {
         /// The file.
         path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
+        /// Why.
+        source: InputFileError,
     },
     /// The extension names no format elasto reads.
     #[error(
@@ -71,6 +73,24 @@ pub enum MeshImportError {
         location: Location,
         /// What was still expected.
         expected: String,
+    },
+    /// A count in the file's header that the rest of the file cannot hold:
+    /// refused before anything is allocated for it.
+    #[error(
+        "{}{location}: the file declares {count} {what}, more than the {bytes_left} bytes after this point can hold (the file is truncated or the count is wrong)",
+        path.display()
+    )]
+    CountBeyondFile {
+        /// The file.
+        path: PathBuf,
+        /// Where the count is.
+        location: Location,
+        /// The count as declared.
+        count: u64,
+        /// What is counted ("nodes", "attributes per point", ...).
+        what: String,
+        /// The bytes the file has left.
+        bytes_left: usize,
     },
     /// A value or keyword that does not fit the format.
     #[error("{}{location}: {reason}", path.display())]

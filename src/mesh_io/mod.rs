@@ -35,6 +35,7 @@ pub use clean::{ImportOptions, ImportReport, clean};
 pub use imported_mesh::ImportedMesh;
 pub use mesh_import_error::{Location, MeshImportError};
 
+use crate::input_file::{MAX_MESH_FILE_BYTES, read_regular_file};
 use crate::mesh::Mesh;
 use std::path::Path;
 
@@ -74,9 +75,11 @@ pub fn load_mesh<const D: usize>(
     clean(read_mesh(path, D)?, options)
 }
 
-/// The whole file, or an error naming it.
+/// The whole file, or an error naming it and the cause: a file that is not
+/// regular (a pipe would block, a device never end) or holds more than
+/// [`MAX_MESH_FILE_BYTES`] is refused before it is read.
 fn read_file(path: &Path) -> Result<Vec<u8>, MeshImportError> {
-    std::fs::read(path).map_err(|source| MeshImportError::Io {
+    read_regular_file(path, MAX_MESH_FILE_BYTES).map_err(|source| MeshImportError::Io {
         path: path.to_owned(),
         source,
     })

@@ -22,7 +22,7 @@
 //!   and counts `size_t` (data-size bytes), `dim entity parametric type`
 //!   4-byte integers, coordinates doubles.
 
-use super::cursor::{Cursor, Endian};
+use super::cursor::{Cursor, Endian, text_bytes};
 use super::imported_mesh::{MeshBuilder, Numbering, Shape};
 use super::{ImportedMesh, MeshImportError};
 use std::collections::HashMap;
@@ -73,6 +73,28 @@ impl Reader<'_> {
             None => self.cursor.number(what),
             Some(endian) => Ok(endian.f64(self.cursor.bytes(8, what)?)),
         }
+    }
+
+    /// Refuses a declared `count` of items that the rest of the file cannot
+    /// hold, before anything is allocated for them: each item is at least
+    /// `numbers` numbers as text, or `binary_bytes` bytes in a binary file.
+    fn declared(
+        &self,
+        count: usize,
+        numbers: u64,
+        binary_bytes: u64,
+        what: impl FnOnce() -> String,
+    ) -> Result<(), MeshImportError> {
+        let bytes_each = match self.endian {
+            None => text_bytes(numbers),
+            Some(_) => binary_bytes,
+        };
+        self.cursor.declared_count(count as u64, bytes_each, what)
+    }
+
+    /// Bytes of `n` `size_t` numbers.
+    fn size_ts(&self, n: u64) -> u64 {
+        n.saturating_mul(self.size_t as u64)
     }
 
     /// A count from the file, as `usize`.
@@ -238,6 +260,8 @@ fn start_binary(reader: &mut Reader) {
 fn nodes_v2(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshImportError> {
     // The count is a text line even in binary files.
     let count: usize = reader.cursor.number(|| "the number of nodes".into())?;
+    // `tag x y z`: an integer and three doubles in binary.
+    reader.declared(count, 4, 4 + 3 * 8, || "nodes".into())?;
     builder.reserve_points(count);
     start_binary(reader);
     for k in 0..count {
@@ -256,6 +280,8 @@ fn nodes_v2(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshIm
 
 fn elements_v2(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshImportError> {
     let count: usize = reader.cursor.number(|| "the number of elements".into())?;
+    // At least `tag type tags node` as text, `tag node` in a binary block.
+    reader.declared(count, 4, 2 * 4, || "elements".into())?;
     start_binary(reader);
     let mut nodes = Vec::new();
     let mut read = 0;
@@ -316,6 +342,12 @@ fn nodes_v41(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshI
     let total = reader.count(|| "the number of nodes".into())?;
     reader.size(|| "the smallest node tag".into())?;
     reader.size(|| "the largest node tag".into())?;
+    // A block header is `dim entity parametric count`; a node is its tag
+    // and three coordinates.
+    let block_header = 3 * 4 + reader.size_ts(1);
+    let node_bytes = reader.size_ts(1) + 3 * 8;
+    reader.declared(blocks, 4, block_header, || "node blocks".into())?;
+    reader.declared(total, 4, node_bytes, || "nodes".into())?;
     builder.reserve_points(total);
     let mut tags = Vec::new();
     for block in 0..blocks {
@@ -334,6 +366,12 @@ fn nodes_v41(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshI
                 )));
             }
         };
+        reader.declared(
+            in_block,
+            4 + extra as u64,
+            node_bytes + 8 * extra as u64,
+            || format!("nodes in node block {}", block + 1),
+        )?;
         tags.clear();
         for k in 0..in_block {
             tags.push(
@@ -361,9 +399,14 @@ fn nodes_v41(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshI
 fn elements_v41(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), MeshImportError> {
     start_binary(reader);
     let blocks = reader.count(|| "the number of element blocks".into())?;
-    reader.count(|| "the number of elements".into())?;
+    let total = reader.count(|| "the number of elements".into())?;
     reader.size(|| "the smallest element tag".into())?;
     reader.size(|| "the largest element tag".into())?;
+    // A block header is `dim entity type count`; an element is its tag and
+    // at least one node.
+    let block_header = 3 * 4 + reader.size_ts(1);
+    reader.declared(blocks, 4, block_header, || "element blocks".into())?;
+    reader.declared(total, 2, reader.size_ts(2), || "elements".into())?;
     let mut nodes = Vec::new();
     for block in 0..blocks {
         let what = || format!("the header of element block {} of {blocks}", block + 1);
@@ -376,6 +419,10 @@ fn elements_v41(reader: &mut Reader, builder: &mut MeshBuilder) -> Result<(), Me
                 "element block {} has the unknown gmsh element type {element_type}",
                 block + 1
             ))
+        })?;
+        let numbers = 1 + node_count as u64;
+        reader.declared(in_block, numbers, reader.size_ts(numbers), || {
+            format!("elements in element block {}", block + 1)
         })?;
         for k in 0..in_block {
             let what = || {

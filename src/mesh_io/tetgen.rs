@@ -10,7 +10,7 @@
 //! (Triangle `-o2`) nodes list their corners first: elasto keeps the corners
 //! and the mid-edge nodes are left unreferenced (and so dropped).
 
-use super::cursor::Cursor;
+use super::cursor::{Cursor, text_bytes};
 use super::imported_mesh::{MeshBuilder, Numbering, Shape};
 use super::{ImportedMesh, MeshImportError};
 use std::path::{Path, PathBuf};
@@ -53,6 +53,16 @@ pub(crate) fn read(path: &Path, dimension: usize) -> Result<ImportedMesh, MeshIm
             "the number of boundary markers must be 0 or 1, found {markers}"
         )));
     }
+    // Each attribute takes a number on every point's line; checked before
+    // the sum below, which it could overflow.
+    cursor.declared_count(attributes as u64, text_bytes(1), || {
+        "attributes per point".into()
+    })?;
+    let extra_per_point = attributes + markers;
+    let numbers_per_point = 1 + file_dimension + extra_per_point;
+    cursor.declared_count(count as u64, text_bytes(numbers_per_point as u64), || {
+        format!("points of {numbers_per_point} numbers each")
+    })?;
     let format = if file_dimension == 3 {
         "TetGen .node/.ele"
     } else {
@@ -82,7 +92,7 @@ pub(crate) fn read(path: &Path, dimension: usize) -> Result<ImportedMesh, MeshIm
         for c in p.iter_mut().take(file_dimension) {
             *c = cursor.number(what)?;
         }
-        for _ in 0..attributes + markers {
+        for _ in 0..extra_per_point {
             cursor.number::<f64>(what)?;
         }
         builder
@@ -119,6 +129,13 @@ pub(crate) fn read(path: &Path, dimension: usize) -> Result<ImportedMesh, MeshIm
             )));
         }
     };
+    cursor.declared_count(attributes as u64, text_bytes(1), || {
+        "attributes per element".into()
+    })?;
+    let numbers_per_element = 1 + nodes + attributes;
+    cursor.declared_count(count as u64, text_bytes(numbers_per_element as u64), || {
+        format!("elements of {numbers_per_element} numbers each")
+    })?;
     let mut vertices = vec![0i64; nodes];
     for k in 0..count {
         let what = || format!("element {} of {count}", k + 1);

@@ -4,13 +4,16 @@
 //! triangles as VTK cell type 5 and tetrahedra as type 10, with per-element
 //! scalars as cell data); `frames.pvd` lists them with `timestep` = the
 //! frame's simulated time and is rewritten after every frame, so it is valid
-//! even when a run stops early. The format is small enough that a
+//! even when a run stops early. Each file is written under a hidden
+//! temporary name and renamed when complete, so a full disk leaves no cut
+//! file under a final name. The format is small enough that a
 //! hand-written writer is clearer than a dependency (the `vtkio` crate is
 //! still a pre-release with a large dependency tree).
 
 use super::OutputError;
 use crate::math::Vector;
 use crate::mesh::Mesh;
+use crate::render::write_whole_file;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -45,11 +48,11 @@ impl MeshSeriesWriter {
     ) -> Result<PathBuf, OutputError> {
         let name = format!("frame_{frame:04}.vtu");
         let path = self.dir.join(&name);
-        std::fs::write(&path, vtu(mesh, positions, cell_scalars, point_vectors))
-            .map_err(OutputError::io("write", &path))?;
+        let grid = vtu(mesh, positions, cell_scalars, point_vectors);
+        write_whole_file(&path, grid.as_bytes()).map_err(OutputError::io("write", &path))?;
         self.entries.push((time, name));
         let pvd_path = self.dir.join("frames.pvd");
-        std::fs::write(&pvd_path, pvd(&self.entries))
+        write_whole_file(&pvd_path, pvd(&self.entries).as_bytes())
             .map_err(OutputError::io("write", &pvd_path))?;
         Ok(path)
     }

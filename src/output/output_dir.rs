@@ -1,7 +1,7 @@
 //! The run's output folder: refused when it holds anything unless forced.
 
 use super::OutputError;
-use crate::render::{SpareFiles, keep_as_spare};
+use crate::render::{SpareFiles, keep_as_spare, write_whole_file};
 use std::path::{Path, PathBuf};
 
 /// Names of the files and folders a run writes at the top of its folder.
@@ -27,6 +27,13 @@ fn ours_at_top(name: &str) -> bool {
     OWNED_FILES.contains(&name)
         || OWNED_FOLDERS.contains(&name)
         || (name.starts_with(".video.") && name.ends_with(".partial"))
+        || partial_of(name).is_some_and(|file| OWNED_FILES.contains(&file))
+}
+
+/// The name a hidden partial file stands for (`.scene.toml.partial`: the
+/// file being written, left by a killed run).
+fn partial_of(name: &str) -> Option<&str> {
+    name.strip_prefix('.')?.strip_suffix(".partial")
 }
 
 /// Whether elasto writes or clears an entry of this name inside `frames/`,
@@ -38,6 +45,7 @@ fn ours_inside(name: &str) -> bool {
         || (name.starts_with(".frame_") && name.ends_with(".partial"))
         || (name.starts_with("surface_") && (name.ends_with(".obj") || name.ends_with(".ply")))
         || (name.starts_with(".surface_") && name.ends_with(".tmp"))
+        || partial_of(name).is_some_and(ours_inside)
         || spare_of(name).is_some_and(ours_inside)
 }
 
@@ -132,10 +140,11 @@ impl OutputDir {
         self.path.join(name)
     }
 
-    /// Writes a whole file inside the folder.
+    /// Writes a whole file inside the folder, through a hidden temporary
+    /// file: a failed write leaves no partial file under `name`.
     pub fn write(&self, name: &str, contents: &str) -> Result<PathBuf, OutputError> {
         let path = self.join(name);
-        std::fs::write(&path, contents).map_err(OutputError::io("write", &path))?;
+        write_whole_file(&path, contents.as_bytes()).map_err(OutputError::io("write", &path))?;
         Ok(path)
     }
 }

@@ -28,6 +28,7 @@
 use super::OutputError;
 use crate::math::Vector;
 use crate::mesh::Mesh;
+use crate::render::write_whole_file;
 use std::fmt::{self, Write as _};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -277,13 +278,7 @@ impl<const D: usize> Surface<D> {
         field: Option<(&str, &[f64])>,
     ) -> Result<(), OutputError> {
         let bytes = self.encode(format, positions, field);
-        let file_name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let temporary = path.with_file_name(format!(".{file_name}.tmp"));
-        std::fs::write(&temporary, bytes).map_err(OutputError::io("write", &temporary))?;
-        std::fs::rename(&temporary, path).map_err(OutputError::io("write", path))
+        write_whole_file(path, &bytes).map_err(OutputError::io("write", path))
     }
 }
 

@@ -67,7 +67,7 @@ pub use frame_image::FrameImage;
 pub use gpu::{adapter_description, max_image_size};
 pub use image_video::write_image_video;
 pub(crate) use partial_file::keep_as_spare;
-pub use partial_file::{SpareFiles, remove_partial_files};
+pub use partial_file::{SpareFiles, remove_partial_files, write_whole_file};
 pub use renderer::{FrameTimings, PreparedRenderer, Renderer};
 pub use sequence::{FrameCost, SequenceWriter, render_sequence};
 pub use text::{FONT_BYTES, draw_text, text_width};

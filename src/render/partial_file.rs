@@ -248,6 +248,21 @@ impl Drop for PartialFile {
     }
 }
 
+/// Writes `bytes` as the whole file at `path` through its registered hidden
+/// temporary (see [`PartialFile`]): the final name holds the earlier file or
+/// the whole new one, never a part, and a failed write (a full disk) leaves
+/// nothing behind. For the files of a run other than frames and videos
+/// (`scene.toml`, VTU meshes, surfaces, `study.md`, ...).
+pub fn write_whole_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let as_io = |error: RenderError| match error {
+        RenderError::Io { source, .. } => source,
+        other => std::io::Error::new(std::io::ErrorKind::Interrupted, other.to_string()),
+    };
+    let partial = PartialFile::new(path).map_err(as_io)?;
+    partial.write_whole(bytes).map_err(as_io)?;
+    partial.publish().map_err(as_io)
+}
+
 /// Opens the file at `path` for writing, truncated with `truncate`,
 /// without creating it and without following a link.
 fn open_existing(path: &Path, truncate: bool) -> std::io::Result<File> {
@@ -269,6 +284,25 @@ fn forget(registry: &mut Registry, temporary: &Path) {
 mod tests {
     use super::*;
     use std::io::Write;
+
+    #[test]
+    fn a_whole_file_that_cannot_be_put_in_place_leaves_nothing_behind() {
+        let dir = tempfile::tempdir().unwrap();
+        let written = dir.path().join("study.md");
+        write_whole_file(&written, b"# study\n").unwrap();
+        assert_eq!(std::fs::read(&written).unwrap(), b"# study\n");
+        // A folder where the file goes: the rename fails, the temporary goes.
+        let blocked = dir.path().join("blocked.vtu");
+        std::fs::create_dir_all(blocked.join("inside")).unwrap();
+        assert!(write_whole_file(&blocked, b"<VTKFile/>").is_err());
+        let mut names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        assert_eq!(names, ["blocked.vtu", "study.md"], "no temporary is left");
+        assert!(!registry().files.contains(&temporary_path(&blocked)));
+    }
 
     #[test]
     fn unpublished_files_are_removed_and_published_ones_renamed() {

@@ -17,6 +17,7 @@
 //! Effects are listed explicitly: a scene without `[effects.gravity]` has no
 //! gravity term at all, and likewise for the ground and pinned vertices.
 
+mod folder_name;
 mod raw_scene;
 mod scene_config;
 mod scene_document;
@@ -25,6 +26,7 @@ mod scene_override;
 mod scene_source;
 mod scene_validator;
 
+pub use folder_name::folder_name_problem;
 pub use scene_config::{
     BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR, DEFAULT_DENSITY,
     DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,

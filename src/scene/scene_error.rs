@@ -1,5 +1,6 @@
 //! Errors of reading and validating a scene: each names the file (or flag), the key and the line.
 
+use crate::input_file::InputFileError;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -89,12 +90,12 @@ impl fmt::Display for Diagnostic {
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
     /// The scene file could not be read.
-    #[error("cannot read scene file {path}")]
+    #[error("cannot read scene file {path}: {source}")]
     Read {
         /// The file.
         path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
+        /// Why: the OS refused, it is not a regular file, or it is too large.
+        source: InputFileError,
     },
     /// Neither a file nor a built-in scene has this name.
     #[error("no scene file or built-in scene named `{name}` (built-in scenes: {available})")]

@@ -1,6 +1,7 @@
 //! Where a scene's text comes from: a file or a built-in scene embedded in the binary.
 
 use super::SceneError;
+use crate::input_file::{MAX_SETTINGS_FILE_BYTES, read_regular_text_file};
 use std::path::{Path, PathBuf};
 
 /// A built-in scene: its name, a one-line description and its TOML text.
@@ -72,9 +73,11 @@ pub struct SceneSource {
 impl SceneSource {
     /// Reads a scene file.
     pub fn from_file(path: &Path) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
-            path: path.to_owned(),
-            source,
+        let text = read_regular_text_file(path, MAX_SETTINGS_FILE_BYTES).map_err(|source| {
+            SceneError::Read {
+                path: path.to_owned(),
+                source,
+            }
         })?;
         let default_name = path
             .file_stem()

@@ -7,6 +7,7 @@
 //! what `scene.toml` of a run holds.
 
 use super::SceneError;
+use super::folder_name::folder_name_problem;
 use super::raw_scene::{
     FieldName, Generator, Method, RawBody, RawCamera, RawContact, RawEffects, RawGround,
     RawMaterial, RawMesh, RawPinned, RawPinnedList, RawRender, RawRotate, RawScene, RawSolver,
@@ -17,8 +18,8 @@ use super::scene_config::{
     DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
     DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
-    MAX_NAME_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene,
-    SceneConfig, TimeConfig, image_bytes,
+    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene, SceneConfig,
+    TimeConfig, image_bytes,
 };
 use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
@@ -302,29 +303,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     /// plain folder name, never a path.
     fn name(&self, given: Option<&str>) -> VResult<String> {
         let name = given.unwrap_or(&self.doc.source().default_name);
-        let problem = if name.trim().is_empty() {
-            Some("must not be empty".to_owned())
-        } else if name.chars().any(char::is_control) {
-            Some(format!("must not contain control characters, got {name:?}"))
-        } else if name.contains(['/', '\\'])
-            || !matches!(
-                std::path::Path::new(name).components().collect::<Vec<_>>()[..],
-                [std::path::Component::Normal(_)]
-            )
-        {
-            Some(format!(
-                "must be a plain name, not a path ({name:?} has a path separator, `.` or `..`, \
-                 or is absolute): it names the output folder out/NAME; choose another folder \
-                 with --out"
-            ))
-        } else if name.len() > MAX_NAME_BYTES {
-            Some(format!(
-                "must be at most {MAX_NAME_BYTES} bytes long (it names a folder), got {}",
-                name.len()
-            ))
-        } else {
-            None
-        };
+        let problem = folder_name_problem(name, "out/NAME");
         match (problem, given) {
             (None, _) => Ok(name.to_owned()),
             (Some(reason), Some(_)) => Err(self.err("name", reason)),

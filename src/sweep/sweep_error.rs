@@ -1,6 +1,7 @@
 //! Errors of planning a sweep: a bad `--vary`, a bad sweep file, mismatched zip lengths.
 
 use super::{RecordError, TableError};
+use crate::input_file::InputFileError;
 use std::path::PathBuf;
 
 /// Errors of parsing and expanding the varied parameters of a sweep (all are
@@ -36,12 +37,12 @@ pub enum SweepError {
         max: usize,
     },
     /// The sweep file could not be read.
-    #[error("cannot read sweep file {path}")]
+    #[error("cannot read sweep file {path}: {source}")]
     ReadFile {
         /// The file.
         path: PathBuf,
-        /// The I/O error.
-        source: std::io::Error,
+        /// Why: the OS refused, it is not a regular file, or it is too large.
+        source: InputFileError,
     },
     /// The sweep file is malformed.
     #[error("{path}: {reason}")]
@@ -71,6 +72,16 @@ pub enum SweepError {
     )]
     ForeignFolder {
         /// The run folder.
+        folder: PathBuf,
+    },
+    /// The sweep's folder holds files, but nothing a sweep writes.
+    #[error(
+        "the sweep folder {} is not empty and was not made by elasto sweep (it has no sweep.json and no run folder with {}); choose another folder with --out, or give --force to write the sweep's files in it",
+        folder.display(),
+        super::RUN_RECORD_FILE
+    )]
+    NotASweepFolder {
+        /// The folder.
         folder: PathBuf,
     },
     /// A flag's value is out of range.

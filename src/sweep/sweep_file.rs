@@ -15,6 +15,8 @@
 
 use super::SweepError;
 use super::vary::{VaryAxis, axis_from_toml};
+use crate::input_file::{MAX_SETTINGS_FILE_BYTES, read_regular_text_file};
+use crate::scene::folder_name_problem;
 use std::path::{Path, PathBuf};
 
 /// A parsed sweep file.
@@ -49,9 +51,11 @@ pub fn is_sweep_file(path: &Path) -> bool {
 impl SweepFile {
     /// Reads and checks a sweep file.
     pub fn read(path: &Path) -> Result<Self, SweepError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SweepError::ReadFile {
-            path: path.to_owned(),
-            source,
+        let text = read_regular_text_file(path, MAX_SETTINGS_FILE_BYTES).map_err(|source| {
+            SweepError::ReadFile {
+                path: path.to_owned(),
+                source,
+            }
         })?;
         Self::parse(&text, path)
     }
@@ -88,6 +92,10 @@ impl SweepFile {
                 .file_stem()
                 .map_or_else(|| "sweep".into(), |s| s.to_string_lossy().into_owned()),
         };
+        // The name is the sweep's folder: the same rule as a scene's name.
+        if let Some(problem) = folder_name_problem(&name, "out/sweeps/NAME") {
+            return Err(bad(format!("`name` {problem}")));
+        }
         let zip = match table.get("zip") {
             Some(toml::Value::Boolean(zip)) => *zip,
             Some(_) => return Err(bad("`zip` must be true or false".into())),

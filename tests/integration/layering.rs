@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 /// The layers of the crate, lowest first: a module may use modules of its
 /// own layer and of the layers below.
 const LAYERS: &[&[&str]] = &[
-    &["math"],
+    &["math", "input_file"],
     &["mesh", "material"],
     &["assembly", "contact", "mesh_io"],
     &["energy", "finite_volume"],

@@ -1,7 +1,8 @@
 //! SIGINT or SIGTERM during `elasto run` left hidden `.video.*.partial`
-//! files behind (issue 9 item 12). Now an interrupt stops the encoders,
-//! removes every partial file, keeps the complete frames, and exits with
-//! 128 + the signal number.
+//! files behind (issue 9 item 12), and SIGHUP (a closed terminal, a dropped
+//! ssh session) killed the run without any clean-up (issue 33 item 18). Now
+//! each of them stops the encoders, removes every partial file, keeps the
+//! complete frames, and exits with 128 + the signal number.
 #![cfg(unix)]
 
 use crate::render_support;
@@ -144,4 +145,9 @@ fn sigint_removes_partial_files_and_exits_130() {
 #[test]
 fn sigterm_removes_partial_files_and_exits_143() {
     interrupt_run(libc::SIGTERM, "SIGTERM");
+}
+
+#[test]
+fn sighup_removes_partial_files_and_exits_129() {
+    interrupt_run(libc::SIGHUP, "SIGHUP");
 }

@@ -1,7 +1,8 @@
 //! Issue 9, items 1, 2 and 8: a scene `name` with `..` or an absolute path wrote
 //! (and with `--force` deleted) outside `out/`; `--force` deleted a frame in a
 //! folder linked as `frames`; a file named `frames` was found only after the
-//! whole simulation. Each now exits 2 before anything is written.
+//! whole simulation. Issue 33, item 10: a sweep file's `name` escaped the
+//! sweeps folder the same way. Each now exits 2 before anything is written.
 
 use crate::cli_common as common;
 use common::*;
@@ -230,4 +231,37 @@ fn a_file_where_frames_go_is_refused_before_simulating() {
     );
     assert_code(&o, 0);
     assert!(out.join("stats.csv").is_file());
+}
+
+#[test]
+fn a_sweep_files_name_is_a_folder_name_not_a_path() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cwd = tmp.path().join("a/b");
+    std::fs::create_dir_all(&cwd).unwrap();
+    let absolute = tmp.path().join("absolute").display().to_string();
+    for name in ["../../escape", "sub/dir", "..", ".", absolute.as_str()] {
+        let text = format!(
+            "scene = \"report-drop-2d\"\nname = {name:?}\n\
+             [vary]\n\"material.young\" = [100, 200]\n"
+        );
+        std::fs::write(cwd.join("sweep.toml"), text).unwrap();
+        let before = tree(tmp.path());
+        for extra in [&[][..], &["--list"], &["--force"]] {
+            let mut args = vec!["sweep", "sweep.toml", "--no-render", "--frames", "1"];
+            args.extend_from_slice(extra);
+            let o = elasto(&cwd, &args);
+            assert_code(&o, 2);
+            let err = stderr(&o);
+            assert!(
+                err.contains("sweep.toml: `name` must be a plain name, not a path")
+                    && err.contains("out/sweeps/NAME"),
+                "{name}: {err}"
+            );
+            assert_eq!(
+                tree(tmp.path()),
+                before,
+                "{name} {extra:?}: something was written"
+            );
+        }
+    }
 }
