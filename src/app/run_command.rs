@@ -220,7 +220,7 @@ fn run_scene<const D: usize>(
         "simulate"
     };
     let mut progress = Progress::start(plan.progress, label, frames);
-    let mut health = RunHealth::new(sim.allows_inversion());
+    let mut health = RunHealth::new(sim.allows_inversion(), sim.is_closed());
     let mut unconverged_reported = false;
     // The frames, until one fails: then the rows waiting for their images
     // are written all the same, with empty rendering cells.
@@ -240,7 +240,17 @@ fn run_scene<const D: usize>(
             log.simulated(frame, &frame_stats)?;
             let steps = if frame == 0 { 0 } else { config.time.substeps };
             let touched_before = health.first_contact_failure().is_some();
+            let energy_rose_before = health.energy_rise().is_some();
             health.add(frame, steps, &frame_stats);
+            if !energy_rose_before && let Some((_, rise)) = health.energy_rise() {
+                if plan.strict {
+                    return Err(AppError::Unhealthy {
+                        scene: name.clone(),
+                        summary: rise,
+                    });
+                }
+                eprintln!("elasto: warning: {rise}");
+            }
             if frame_stats.unconverged_steps + frame_stats.stalled_steps > 0 {
                 let failed = format!(
                     "frame {frame} (t = {:.6} s): {} step(s) hit the iteration cap and {} \

@@ -6,13 +6,21 @@
 //! forbids them, or a body that reached the ground. A material that allows
 //! inversion (stable Neo-Hookean, fixed corotated) may pass through `J <= 0`
 //! in an impact: that is reported with the volume ratio of the last frame
-//! (recovered or not), not counted as a failure. [`RunHealth`]
+//! (recovered or not), not counted as a failure. In a closed scene (no
+//! pinned region that moves, so nothing does work on the bodies) the total
+//! energy must not rise: a frame whose total energy is above frame 0's by
+//! more than [`ENERGY_RISE_LIMIT`] of frame 0's energies (the sum of their
+//! magnitudes) is a failure, the integrator having created energy. [`RunHealth`]
 //! gathers these from every output frame's statistics; when any occurred,
 //! `run` prints its one-line summary on stderr, and `--strict` makes it a
 //! failure (exit code 1).
 
 use crate::scene::approx;
 use crate::sim::FrameStats;
+
+/// How far the total energy of a closed scene may rise above frame 0's, as
+/// a fraction of the sum of the magnitudes of frame 0's energies.
+pub const ENERGY_RISE_LIMIT: f64 = 0.01;
 
 /// What went wrong over the frames of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +37,13 @@ pub struct RunHealth {
     last_volume_ratio: Option<f64>,
     /// Whether every material allows inversion.
     inversion_allowed: bool,
+    /// Whether nothing does work on the bodies (no moving pinned region), so
+    /// the total energy must not rise.
+    closed: bool,
+    /// Frame 0's total energy and the sum of its parts' magnitudes.
+    start_energy: Option<(f64, f64)>,
+    /// The first frame whose total energy rose beyond the limit, with that energy.
+    energy_rise: Option<(f64, usize)>,
     /// Smallest gap to the ground over all frames, and its frame (`None`
     /// without a ground).
     lowest_gap: Option<(f64, usize)>,
@@ -39,8 +54,9 @@ pub struct RunHealth {
 
 impl RunHealth {
     /// Nothing recorded yet, for a run whose materials forbid inversion
-    /// (`inversion_allowed = false`) or all allow it.
-    pub fn new(inversion_allowed: bool) -> Self {
+    /// (`inversion_allowed = false`) or all allow it, and that is `closed`
+    /// (no moving pinned region: its energy must not rise) or not.
+    pub fn new(inversion_allowed: bool, closed: bool) -> Self {
         Self {
             steps: 0,
             capped_steps: 0,
@@ -48,6 +64,9 @@ impl RunHealth {
             min_volume_ratio: None,
             last_volume_ratio: None,
             inversion_allowed,
+            closed,
+            start_energy: None,
+            energy_rise: None,
             lowest_gap: None,
             closest_contact: None,
         }
@@ -72,6 +91,35 @@ impl RunHealth {
         if let Some(distance) = stats.contact.and_then(|c| c.min_distance) {
             self.closest_contact = lower(self.closest_contact, distance);
         }
+        let total = stats.energy.total();
+        match self.start_energy {
+            None => {
+                let magnitude = stats.energy.entries().map(|(_, e)| e.abs()).sum();
+                self.start_energy = Some((total, magnitude));
+            }
+            Some((start, magnitude)) if self.closed && self.energy_rise.is_none() => {
+                if !(total <= start + ENERGY_RISE_LIMIT * magnitude) {
+                    self.energy_rise = Some((total, frame));
+                }
+            }
+            Some(_) => {}
+        }
+    }
+
+    /// The first frame whose total energy rose beyond [`ENERGY_RISE_LIMIT`]
+    /// (a closed scene only), and the sentence that says so.
+    pub fn energy_rise(&self) -> Option<(usize, String)> {
+        let ((total, frame), (start, _)) = self.energy_rise.zip(self.start_energy)?;
+        Some((
+            frame,
+            format!(
+                "total energy {} at frame {frame}, above frame 0's {} by more than {}%: \
+                 the integrator created energy",
+                approx(total),
+                approx(start),
+                ENERGY_RISE_LIMIT * 100.0
+            ),
+        ))
     }
 
     /// The first frame where two surface primitives touched or crossed
@@ -94,7 +142,13 @@ impl RunHealth {
         });
         let grounded = self.lowest_gap.is_some_and(|(gap, _)| !(gap > 0.0));
         let touching = self.first_contact_failure().is_some();
-        self.capped_steps > 0 || self.stalled_steps > 0 || inverted || grounded || touching
+        let energy_rose = self.energy_rise.is_some();
+        self.capped_steps > 0
+            || self.stalled_steps > 0
+            || inverted
+            || grounded
+            || touching
+            || energy_rose
     }
 
     /// The one-line summary, e.g. `12 of 2990 steps hit the iteration cap
@@ -148,6 +202,9 @@ impl RunHealth {
                 approx(distance)
             ));
         }
+        if let Some((_, rise)) = self.energy_rise() {
+            parts.push(rise);
+        }
         parts.join(", ")
     }
 }
@@ -168,6 +225,7 @@ mod tests {
             stalled_steps: 0,
             reanalyses: 0,
             subdivided_steps: 0,
+            damped_steps: 0,
             boundary_error: None,
             contact: None,
             energy: EnergyBreakdown::default(),
@@ -181,7 +239,7 @@ mod tests {
 
     #[test]
     fn a_healthy_run_has_no_problems() {
-        let mut health = RunHealth::new(false);
+        let mut health = RunHealth::new(false, true);
         health.add(0, 0, &frame(0, 1.0, Some(10.0)));
         health.add(1, 10, &frame(0, 0.98, Some(0.05)));
         health.add(2, 10, &frame(0, 0.99, Some(0.07)));
@@ -195,7 +253,7 @@ mod tests {
 
     #[test]
     fn capped_steps_inversions_and_contact_are_problems() {
-        let mut capped = RunHealth::new(false);
+        let mut capped = RunHealth::new(false, true);
         capped.add(1, 10, &frame(3, 1.0, None));
         capped.add(2, 10, &frame(4, 1.0, None));
         assert!(capped.has_problems());
@@ -206,7 +264,7 @@ mod tests {
         );
         assert!(!capped.summary(7).contains("ground"));
 
-        let mut inverted = RunHealth::new(false);
+        let mut inverted = RunHealth::new(false, true);
         inverted.add(1, 10, &frame(0, 0.5, Some(1.0)));
         inverted.add(2, 10, &frame(0, -0.25, Some(2.0)));
         inverted.add(3, 10, &frame(0, 0.1, Some(3.0)));
@@ -219,7 +277,7 @@ mod tests {
             inverted.summary(50)
         );
 
-        let mut nan = RunHealth::new(false);
+        let mut nan = RunHealth::new(false, true);
         nan.add(1, 10, &frame(0, 0.5, None));
         nan.add(2, 10, &frame(0, f64::NAN, None));
         nan.add(3, 10, &frame(0, 0.1, None));
@@ -230,9 +288,89 @@ mod tests {
             nan.summary(50)
         );
 
-        let mut grounded = RunHealth::new(false);
+        let mut grounded = RunHealth::new(false, true);
         grounded.add(1, 10, &frame(0, 1.0, Some(0.0)));
         assert!(grounded.has_problems());
         assert!(grounded.summary(50).ends_with("on or below the ground"));
+    }
+
+    fn with_energy(mut stats: FrameStats<2>, kinetic: f64, gravity: f64) -> FrameStats<2> {
+        stats.energy = EnergyBreakdown {
+            kinetic,
+            potentials: vec![("elastic", 0.0), ("gravity", gravity)],
+        };
+        stats
+    }
+
+    #[test]
+    fn an_inversion_the_material_allows_is_reported_with_its_outcome() {
+        let mut recovered = RunHealth::new(true, true);
+        recovered.add(1, 10, &frame(0, 0.9, None));
+        recovered.add(2, 10, &frame(0, -0.4, None));
+        recovered.add(3, 10, &frame(0, 0.8, None));
+        assert!(!recovered.has_problems());
+        assert!(
+            recovered.summary(50).contains(
+                "min volume ratio -0.4 (frame 2): inverted, which the material allows, \
+                 and recovered (J = 0.8 at the end)"
+            ),
+            "{}",
+            recovered.summary(50)
+        );
+
+        let mut held = RunHealth::new(true, true);
+        held.add(1, 10, &frame(0, -0.4, None));
+        held.add(2, 10, &frame(0, -0.3, None));
+        assert!(!held.has_problems());
+        assert!(
+            held.summary(50)
+                .contains("still inverted at the end (J = -0.3)"),
+            "{}",
+            held.summary(50)
+        );
+
+        // The same frames are a failure where the material forbids inversion,
+        // and a NaN is one even where it allows it.
+        let mut forbidden = RunHealth::new(false, true);
+        forbidden.add(1, 10, &frame(0, -0.4, None));
+        forbidden.add(2, 10, &frame(0, 0.8, None));
+        assert!(forbidden.has_problems());
+        let mut nan = RunHealth::new(true, true);
+        nan.add(1, 10, &frame(0, f64::NAN, None));
+        assert!(nan.has_problems());
+    }
+
+    #[test]
+    fn a_closed_scene_whose_energy_rises_beyond_one_percent_fails() {
+        // Frame 0: kinetic 8, gravity 2 (magnitudes sum 10): the limit is 10.1.
+        let mut health = RunHealth::new(false, true);
+        health.add(0, 0, &with_energy(frame(0, 1.0, None), 8.0, 2.0));
+        health.add(1, 10, &with_energy(frame(0, 1.0, None), 5.0, 5.09));
+        assert!(!health.has_problems(), "{}", health.summary(50));
+        assert_eq!(health.energy_rise(), None);
+        health.add(2, 10, &with_energy(frame(0, 1.0, None), 5.0, 5.2));
+        health.add(3, 10, &with_energy(frame(0, 1.0, None), 500.0, 5.2));
+        assert!(health.has_problems());
+        let (frame_index, sentence) = health.energy_rise().expect("a rise");
+        assert_eq!(frame_index, 2, "the first frame above the limit");
+        assert!(
+            sentence.contains("total energy 10.2 at frame 2, above frame 0's 10 by more than 1%"),
+            "{sentence}"
+        );
+        assert!(
+            health
+                .summary(50)
+                .ends_with("the integrator created energy")
+        );
+
+        // A NaN energy is a rise; a scene with moving pinned regions is not checked.
+        let mut nan = RunHealth::new(false, true);
+        nan.add(0, 0, &with_energy(frame(0, 1.0, None), 8.0, 2.0));
+        nan.add(1, 10, &with_energy(frame(0, 1.0, None), f64::NAN, 2.0));
+        assert!(nan.has_problems());
+        let mut driven = RunHealth::new(false, false);
+        driven.add(0, 0, &with_energy(frame(0, 1.0, None), 8.0, 2.0));
+        driven.add(1, 10, &with_energy(frame(0, 1.0, None), 80.0, 2.0));
+        assert!(!driven.has_problems());
     }
 }

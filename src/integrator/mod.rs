@@ -21,7 +21,9 @@
 //! Backward Euler is first order and dissipative; BDF2 is second order and
 //! damps high frequencies as strongly but resolved motion far less (energy
 //! lost per period `O(dt^3)` against `O(dt)`); Newmark is second order and
-//! does not damp (it conserves the energy of a linear problem). A scheme that
+//! does not damp (it conserves the energy of a linear problem); where one of
+//! its steps would gain energy (a stiff impact), the stepper takes that step
+//! again as a backward-Euler step ([`TimeIntegrator::guards_energy`]). A scheme that
 //! carries the acceleration (Newmark) gets `a_0 = -M^{-1} grad U(x_0)` once
 //! at setup through [`TimeIntegrator::set_initial_acceleration`].
 //!
@@ -64,6 +66,16 @@ pub trait TimeIntegrator<const D: usize>: Send + Sync {
     /// A copy of the scheme with its history, so a step can be taken back
     /// and retried (as shorter steps).
     fn boxed_clone(&self) -> Box<dyn TimeIntegrator<D>>;
+    /// Whether the scheme does not dissipate and can gain energy where a
+    /// step is stiff (Newmark at an impact): the stepper then checks each
+    /// step's total energy and takes a step that gained energy again, damped
+    /// ([`Self::damp_next_step`]). Dissipative schemes say no (default).
+    fn guards_energy(&self) -> bool {
+        false
+    }
+    /// Makes the next step (begun by [`Self::begin_step`]) a dissipative one,
+    /// for a scheme that [`guards_energy`](Self::guards_energy).
+    fn damp_next_step(&mut self) {}
 }
 
 /// The schemes a scene can choose (`time.integrator`).

@@ -21,6 +21,22 @@
 //! numerical damping: for a linear problem it conserves
 //! `1/2 v^T M v + U(x)` exactly (for a nonlinear one, up to `O(dt^2)`),
 //! and it is exact for a constant acceleration (free fall).
+//!
+//! # Steps that would create energy
+//!
+//! That conservation holds for converged steps of smooth problems only. A
+//! stiff barrier impact breaks it: the acceleration `a_n` carried into the
+//! prediction is the barrier's enormous push of the last step, and
+//! `x~ = x_n + dt v_n + dt^2/4 a_n` throws the body out faster than it came
+//! (measured before this guard: a box dropped at 50 units/s onto the ground
+//! went from a total energy of 1252 to 1510 in four frames and to 3.6e9 by
+//! frame 60). So the scheme asks the stepper to guard the energy
+//! ([`TimeIntegrator::guards_energy`]): a step that ends with more total
+//! energy than the run has had is taken again as a backward-Euler step
+//! ([`TimeIntegrator::damp_next_step`]: `x~ = x_n + dt v_n`, `w = dt^2`,
+//! `v_{n+1} = (x_{n+1} - x_n) / dt`), which dissipates, and the acceleration
+//! carried on is that step's mean, `a_{n+1} = (v_{n+1} - v_n) / dt`. Steps
+//! of smooth motion stay Newmark steps, second order and undamped.
 
 use super::TimeIntegrator;
 use crate::math::Vector;
@@ -31,8 +47,12 @@ pub struct Newmark<const D: usize> {
     predicted: Vec<Vector<D>>,
     /// `v_n` of the step begun last.
     start_velocity: Vec<Vector<D>>,
+    /// `x_n` of the step begun last (for a damped step's velocity).
+    start_position: Vec<Vector<D>>,
     /// `a_n`: the initial acceleration, then the last step's `a_{n+1}`.
     acceleration: Vec<Vector<D>>,
+    /// Whether the step begun next (and until it ends) is a backward-Euler step.
+    damped: bool,
 }
 
 impl<const D: usize> Newmark<D> {
@@ -43,7 +63,9 @@ impl<const D: usize> Newmark<D> {
         Self {
             predicted: zeros.clone(),
             start_velocity: zeros.clone(),
+            start_position: zeros.clone(),
             acceleration: zeros,
+            damped: false,
         }
     }
 }
@@ -55,6 +77,9 @@ impl<const D: usize> TimeIntegrator<D> for Newmark<D> {
 
     fn begin_step(&mut self, x: &[Vector<D>], v: &[Vector<D>], dt: f64) {
         self.start_velocity.copy_from_slice(v);
+        self.start_position.copy_from_slice(x);
+        // A damped step predicts like backward Euler: no acceleration term.
+        let acceleration_weight = if self.damped { 0.0 } else { 0.25 * dt * dt };
         for (((p, x), v), a) in self
             .predicted
             .iter_mut()
@@ -62,7 +87,7 @@ impl<const D: usize> TimeIntegrator<D> for Newmark<D> {
             .zip(v)
             .zip(&self.acceleration)
         {
-            *p = x + v * dt + a * (0.25 * dt * dt);
+            *p = x + v * dt + a * acceleration_weight;
         }
     }
 
@@ -71,7 +96,15 @@ impl<const D: usize> TimeIntegrator<D> for Newmark<D> {
     }
 
     fn potential_weight(&self, dt: f64) -> f64 {
-        0.25 * dt * dt
+        if self.damped { dt * dt } else { 0.25 * dt * dt }
+    }
+
+    fn guards_energy(&self) -> bool {
+        true
+    }
+
+    fn damp_next_step(&mut self) {
+        self.damped = true;
     }
 
     fn boxed_clone(&self) -> Box<dyn TimeIntegrator<D>> {
@@ -79,6 +112,19 @@ impl<const D: usize> TimeIntegrator<D> for Newmark<D> {
     }
 
     fn end_step(&mut self, x_new: &[Vector<D>], velocities: &mut [Vector<D>], dt: f64) {
+        if self.damped {
+            self.damped = false;
+            for (((v, a), x), (x0, v0)) in velocities
+                .iter_mut()
+                .zip(&mut self.acceleration)
+                .zip(x_new)
+                .zip(self.start_position.iter().zip(&self.start_velocity))
+            {
+                *v = (x - x0) / dt;
+                *a = (*v - v0) / dt;
+            }
+            return;
+        }
         for ((((v, a), x), p), v0) in velocities
             .iter_mut()
             .zip(&mut self.acceleration)

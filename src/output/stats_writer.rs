@@ -45,6 +45,7 @@ const TRAILING_COLUMNS: &[&str] = &[
     "ccd_budget_exhausted",
     "reanalyses",
     "subdivided_steps",
+    "damped_steps",
     "boundary_error",
     "render_ms",
     "encode_ms",
@@ -76,7 +77,9 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// without contact); `reanalyses`: times the sparse Hessian's pattern grew
 /// with new contact pairs and its symbolic factorisation was redone;
 /// `subdivided_steps`: steps that did not converge whole and were retried
-/// as shorter steps (`solver.max_subdivisions`); `boundary_error`: the
+/// as shorter steps (`solver.max_subdivisions`); `damped_steps`: Newmark
+/// steps that would have gained energy and were taken again as
+/// backward-Euler steps (0 for the other schemes); `boundary_error`: the
 /// largest distance of a prescribed (moving pinned) vertex from its path at
 /// the end of a step of the frame (0 when every step could put the regions
 /// on their path before its solve; empty in scenes without moving regions);
@@ -204,13 +207,14 @@ impl StatsWriter {
             .unwrap_or_default();
         write!(
             row,
-            ",{min_distance},{},{:.3},{:.3},{},{},{},{}",
+            ",{min_distance},{},{:.3},{:.3},{},{},{},{},{}",
             contact.active_pairs,
             ms(contact.broad_phase),
             ms(contact.ccd),
             contact.ccd_budget_exhausted,
             stats.reanalyses,
             stats.subdivided_steps,
+            stats.damped_steps,
             stats
                 .boundary_error
                 .map(|e| e.to_string())
@@ -248,6 +252,7 @@ mod tests {
             stalled_steps: 2,
             reanalyses: 0,
             subdivided_steps: 0,
+            damped_steps: 0,
             boundary_error: None,
             contact: None,
             energy: EnergyBreakdown {

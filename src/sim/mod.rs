@@ -22,11 +22,13 @@
 //! of a scene), `pin_region.rs` (a pinned region and its rigid path),
 //! `simulation_setup.rs` (joining the bodies' meshes and
 //! building the list of terms from the scene's effects), `effects.rs`,
-//! `stepping.rs` (one step, one frame), `stats.rs` (what a step reports),
+//! `stepping.rs` (one step, one frame), `energy_guard.rs` (a Newmark step
+//! that would gain energy is taken again damped), `stats.rs` (what a step reports),
 //! `sim_error.rs`.
 
 mod body;
 mod effects;
+mod energy_guard;
 mod pin_region;
 mod sim_error;
 mod simulation;

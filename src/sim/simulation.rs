@@ -40,6 +40,10 @@ pub struct Simulation<const D: usize> {
     pub(super) motions: Vec<PinMotion<D>>,
     /// Every pinned vertex with its rest position and motion.
     pub(super) pinned: Vec<PinnedVertex<D>>,
+    /// The lowest total energy reached since work was last done on the
+    /// bodies, for a scheme that guards its energy (`energy_guard.rs`;
+    /// `None` until its first step, and after a step with moving regions).
+    pub(super) energy_ceiling: Option<f64>,
 }
 
 /// A pinned vertex: it follows `motions[motion]` from its rest position.
@@ -94,6 +98,12 @@ impl<const D: usize> Simulation<D> {
             .materials()
             .iter()
             .all(|m| !m.forbids_inversion())
+    }
+
+    /// Whether nothing does work on the bodies: no pinned region moves at
+    /// any time (its total energy then cannot rise).
+    pub fn is_closed(&self) -> bool {
+        !self.motions.iter().any(|m| m.is_moving())
     }
 
     /// The ground barrier stiffness in use (`None` without a ground).
@@ -152,6 +162,7 @@ impl<const D: usize> Simulation<D> {
             stalled_steps: 0,
             reanalyses: 0,
             subdivided_steps: 0,
+            damped_steps: 0,
             boundary_error: self.motions.iter().any(|m| m.is_moving()).then_some(0.0),
             contact: self.contact.as_ref().map(|c| {
                 let (min_distance, active_pairs) = c.proximity(&self.positions);

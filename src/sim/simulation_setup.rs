@@ -330,6 +330,7 @@ impl<const D: usize> Simulation<D> {
             settings,
             hessian,
             prescribed_hessian: None,
+            energy_ceiling: None,
             motions,
             pinned,
         })

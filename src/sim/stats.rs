@@ -88,6 +88,9 @@ pub struct FrameStats<const D: usize> {
     pub reanalyses: usize,
     /// Substeps that did not converge whole and were retried as shorter steps.
     pub subdivided_steps: usize,
+    /// Substeps of a scheme that guards its energy (Newmark) that gained
+    /// energy and were taken again as backward-Euler steps.
+    pub damped_steps: usize,
     /// The largest distance of a prescribed vertex from its path at the end
     /// of a substep (`None` in a scene without moving pinned regions).
     pub boundary_error: Option<f64>,

@@ -15,7 +15,7 @@ pub const PATH_TOLERANCE: f64 = 1e-3;
 pub const MAX_CONSTRAINT_ROUNDS: usize = 8;
 
 /// The state a step starts from, to take an attempt back.
-struct StepStart<const D: usize> {
+pub(super) struct StepStart<const D: usize> {
     positions: Vec<Vector<D>>,
     velocities: Vec<Vector<D>>,
     integrator: Box<dyn TimeIntegrator<D>>,
@@ -72,14 +72,9 @@ impl<const D: usize> Simulation<D> {
     /// `solver.max_subdivisions` halvings; only a step that fails at the
     /// deepest level is kept unconverged (or its error returned).
     fn advance_by(&mut self, dt: f64, depth: usize) -> Result<SolverStats, SimError> {
-        let start = StepStart {
-            positions: self.positions.clone(),
-            velocities: self.velocities.clone(),
-            integrator: self.integrator.boxed_clone(),
-            time: self.time,
-        };
+        let start = self.step_start();
         let deepest = depth >= self.settings.solver.max_subdivisions;
-        let failed = match self.attempt_step(dt) {
+        let failed = match self.attempt_guarded_step(dt) {
             Ok(stats) if stats.converged || deepest => return Ok(stats),
             Err(error) if deepest => {
                 self.restore(start);
@@ -97,7 +92,17 @@ impl<const D: usize> Simulation<D> {
         Ok(SolverStats::subdivided(failed, first, second))
     }
 
-    fn restore(&mut self, start: StepStart<D>) {
+    /// The state now, to come back to.
+    pub(super) fn step_start(&self) -> StepStart<D> {
+        StepStart {
+            positions: self.positions.clone(),
+            velocities: self.velocities.clone(),
+            integrator: self.integrator.boxed_clone(),
+            time: self.time,
+        }
+    }
+
+    pub(super) fn restore(&mut self, start: StepStart<D>) {
         self.positions = start.positions;
         self.velocities = start.velocities;
         self.integrator = start.integrator;
@@ -109,7 +114,7 @@ impl<const D: usize> Simulation<D> {
     /// begin-step hooks, the integrator's prediction, the minimisation
     /// (with the augmented-Lagrangian rounds where a prescribed vertex
     /// lags), the velocity update.
-    fn attempt_step(&mut self, dt: f64) -> Result<SolverStats, SimError> {
+    pub(super) fn attempt_step(&mut self, dt: f64) -> Result<SolverStats, SimError> {
         let end_time = self.time + dt;
         let failure = |sim: &Self, reason: String| SimError::SolverFailure {
             step: sim.steps,
@@ -294,7 +299,7 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// For each pinned region, whether it moves in the step starting now.
-    fn moving_regions(&self) -> Vec<bool> {
+    pub(super) fn moving_regions(&self) -> Vec<bool> {
         self.motions
             .iter()
             .map(|m| m.is_moving_at(self.time))
@@ -434,6 +439,7 @@ impl<const D: usize> Simulation<D> {
         let start = Instant::now();
         let mut totals = SolverStats::default();
         let (mut unconverged_steps, mut stalled_steps, mut subdivided_steps) = (0, 0, 0);
+        let mut damped_steps = 0;
         let mut boundary_error: Option<f64> = None;
         let contact_before = self.contact.as_ref().map(|c| c.counters());
         for _ in 0..substeps {
@@ -446,6 +452,7 @@ impl<const D: usize> Simulation<D> {
             unconverged_steps += usize::from(step.hit_iteration_cap());
             stalled_steps += usize::from(step.stalled);
             subdivided_steps += usize::from(step.subdivided);
+            damped_steps += step.damped_steps;
             if let Some(error) = step.constraint_error {
                 boundary_error = Some(boundary_error.map_or(error, |e| e.max(error)));
             }
@@ -458,6 +465,7 @@ impl<const D: usize> Simulation<D> {
         frame.stalled_steps = stalled_steps;
         frame.reanalyses = totals.reanalyses;
         frame.subdivided_steps = subdivided_steps;
+        frame.damped_steps = damped_steps;
         if let Some(error) = boundary_error {
             frame.boundary_error = Some(error);
         }

@@ -45,6 +45,9 @@ pub struct SolverStats {
     /// Whether the step was taken back and advanced as shorter steps
     /// (`solver.max_subdivisions`); the counts then cover every attempt.
     pub subdivided: bool,
+    /// Steps that gained energy and were taken again damped (a scheme that
+    /// guards its energy, Newmark); summed over the parts of a divided step.
+    pub damped_steps: usize,
     /// The largest distance of a prescribed vertex from its path at the end
     /// of the step, for a step whose moving regions had to be pulled onto
     /// their path within the solve (`None` otherwise: they were put on it).
@@ -63,6 +66,7 @@ impl SolverStats {
         self.linear_solves += other.linear_solves;
         self.backtracks += other.backtracks;
         self.reanalyses += other.reanalyses;
+        self.damped_steps += other.damped_steps;
         self.times += other.times;
     }
 

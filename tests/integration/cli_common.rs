@@ -82,6 +82,7 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "ccd_budget_exhausted",
     "reanalyses",
     "subdivided_steps",
+    "damped_steps",
     "boundary_error",
     "render_ms",
     "encode_ms",
