@@ -92,7 +92,7 @@ pub enum IntegratorKind {
 }
 
 impl IntegratorKind {
-    /// Every scheme, in the order the README lists them.
+    /// Every scheme, in the order docs/scene-reference.md lists them.
     pub const ALL: [IntegratorKind; 3] = [
         IntegratorKind::BackwardEuler,
         IntegratorKind::Bdf2,

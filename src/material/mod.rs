@@ -151,7 +151,7 @@ pub enum MaterialModel {
 }
 
 impl MaterialModel {
-    /// Every model, in the order the README lists them.
+    /// Every model, in the order docs/scene-reference.md lists them.
     pub const ALL: [MaterialModel; 4] = [
         MaterialModel::StVenantKirchhoff,
         MaterialModel::NeoHookean,

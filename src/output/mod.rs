@@ -1,16 +1,19 @@
-//! Data outputs of a run: the output folder, `stats.csv` and VTK meshes.
+//! Data outputs of a run: the output folder, `stats.csv`, VTK meshes, OBJ/PLY
+//! surfaces, and the one way numbers are written as text ([`format_number`]).
 //!
 //! Every write that fails names its file. Nothing a user made is lost: an
 //! existing non-empty output folder is refused unless the caller forces it,
 //! and even then only the files elasto writes are replaced.
 
 mod mesh_series_writer;
+mod number_text;
 mod output_dir;
 mod output_error;
 mod stats_writer;
 mod surface_writer;
 
 pub use mesh_series_writer::MeshSeriesWriter;
+pub use number_text::format_number;
 pub use output_dir::OutputDir;
 pub use output_error::OutputError;
 pub use stats_writer::{PendingRow, RenderTimes, StatsWriter, stats_columns};

@@ -3,6 +3,7 @@
 //! ([`PendingRow`]) waits for the rendering times that end it.
 
 use super::OutputError;
+use super::number_text::format_number as num;
 use crate::sim::FrameStats;
 use std::fmt::Write as _;
 use std::fs::File;
@@ -171,26 +172,29 @@ impl StatsWriter {
         };
         let mut row = format!(
             "{frame},{},{},{},{}",
-            stats.time, stats.iterations, stats.linear_solves, stats.backtracks
+            num(stats.time),
+            stats.iterations,
+            stats.linear_solves,
+            stats.backtracks
         );
         for name in &self.energy_names {
             // An entry the frame lacks would be a programming error; an empty
             // cell keeps the columns aligned.
             match stats.energy.get(name) {
-                Some(e) => write!(row, ",{e}"),
+                Some(e) => write!(row, ",{}", num(e)),
                 None => write!(row, ","),
             }
             .expect("formatting into a String cannot fail");
         }
-        let min_height = stats.min_height.map(|h| h.to_string()).unwrap_or_default();
+        let min_height = stats.min_height.map(num).unwrap_or_default();
         write!(
             row,
             ",{},{},{},{},{min_height},{},{:.3},{},{},{:.3},{:.3},{:.3},{:.3}",
-            stats.energy.total(),
-            com(0),
-            com(1),
-            com(2),
-            stats.min_volume_ratio,
+            num(stats.energy.total()),
+            num(com(0)),
+            num(com(1)),
+            num(com(2)),
+            num(stats.min_volume_ratio),
             ms(stats.wall_time),
             stats.unconverged_steps,
             stats.stalled_steps,
@@ -201,10 +205,7 @@ impl StatsWriter {
         )
         .expect("formatting into a String cannot fail");
         let contact = stats.contact.unwrap_or_default();
-        let min_distance = contact
-            .min_distance
-            .map(|d| d.to_string())
-            .unwrap_or_default();
+        let min_distance = contact.min_distance.map(num).unwrap_or_default();
         write!(
             row,
             ",{min_distance},{},{:.3},{:.3},{},{},{},{},{}",
@@ -215,10 +216,7 @@ impl StatsWriter {
             stats.reanalyses,
             stats.subdivided_steps,
             stats.damped_steps,
-            stats
-                .boundary_error
-                .map(|e| e.to_string())
-                .unwrap_or_default(),
+            stats.boundary_error.map(num).unwrap_or_default(),
         )
         .expect("formatting into a String cannot fail");
         PendingRow(row)

@@ -25,7 +25,7 @@
 //! format needs, where the `ply-rs-bw` crate would build a map per vertex
 //! (the tests read the files back with `ply-rs-bw`).
 
-use super::OutputError;
+use super::{OutputError, format_number};
 use crate::math::Vector;
 use crate::mesh::Mesh;
 use crate::render::write_whole_file;
@@ -215,7 +215,13 @@ impl<const D: usize> Surface<D> {
         );
         for i in 0..self.vertices.len() {
             let [x, y, z] = xyz(i);
-            let _ = writeln!(s, "v {x} {y} {z}");
+            let _ = writeln!(
+                s,
+                "v {} {} {}",
+                format_number(x),
+                format_number(y),
+                format_number(z)
+            );
         }
         for facet in &self.facets {
             s.push_str(keyword);

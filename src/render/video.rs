@@ -1,12 +1,18 @@
-//! Video writers, fed one frame at a time so nothing holds the whole run.
+//! Video writers, fed one frame at a time so nothing holds the whole run:
+//! [`open`] gives the writer of a [`VideoFormat`] behind the one
+//! [`VideoWriter`] trait.
 //!
-//! Each writer writes to the hidden temporary file of a [`PartialFile`]
-//! beside its final name; the sequence writer publishes it only when the
-//! whole run succeeded, so a failed or interrupted run never leaves a video
-//! that looks complete.
+//! Two callers use them: the sequence writer (`sequence.rs`) for a run's
+//! `video.png`, `video.mp4` and `video.gif`, each on a thread of its own fed
+//! in frame order, and [`write_image_video`](super::write_image_video)
+//! (`image_video.rs`) for a sweep's `comparison.*`. Each writer writes to the
+//! hidden temporary file of a [`PartialFile`] beside its final name; the
+//! caller publishes it only when every frame is written, so a failed or
+//! interrupted run never leaves a video that looks complete.
 //!
 //! - APNG (`video.png`): the `png` crate, RGB, fast compression, frame delay
-//!   from the frame rate as an exact fraction where possible. The first frame
+//!   the fraction of a second closest to `1 / fps` ([`frame_delay`]: exact
+//!   where a numerator up to 1000 gives it). The first frame
 //!   is whole; after it, a frame over the same base as the one before
 //!   (`frame_image`) stores only the rectangle where the two can differ, the
 //!   union of their patches, drawn over the previous frame (dispose `None`,

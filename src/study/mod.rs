@@ -31,4 +31,4 @@ mod study_table;
 pub use convergence::observed_order;
 pub use error_tracker::{ErrorKind, ErrorTracker, Reference, RunErrors};
 pub use plot::{PlotPoint, work_precision_plot};
-pub use study_table::{RunStatus, StudyRow, StudyTable};
+pub use study_table::{RunStatus, STUDY_COLUMNS, StudyRow, StudyTable};

@@ -2,6 +2,7 @@
 //! per run plus the reference) and `study.md` (a table to paste).
 
 use super::RunErrors;
+use crate::output::format_number;
 use std::fmt::Write;
 
 /// How a run ended.
@@ -164,9 +165,9 @@ impl StudyTable {
     }
 }
 
-/// A number in full (round-trip) precision.
+/// A number in full (round-trip) precision, in the data files' one form.
 fn num(x: f64) -> String {
-    format!("{x:e}")
+    format_number(x)
 }
 
 /// A number with three significant digits.
@@ -240,10 +241,10 @@ mod tests {
         assert!(lines[0].starts_with("run,mesh.velocity,series,dt,status,wall_ms"));
         assert!(
             lines[1].starts_with(
-                "reference,\"[0, -1]\",newton / bdf2,1e-2,ok,12.400,20.000,3,30,3.000"
+                "reference,\"[0, -1]\",newton / bdf2,0.01,ok,12.400,20.000,3,30,3.000"
             )
         );
-        assert!(lines[1].ends_with(",vertices,1.25e-1,5e-1,10"));
+        assert!(lines[1].ends_with(",vertices,0.125,0.5,10"));
         assert!(
             lines[2].contains(",failed: step 3, frame 1: NaN,")
                 || lines[2].contains("\"failed: step 3, frame 1: NaN\"")

@@ -2,6 +2,7 @@
 
 use super::run_record::write_atomically;
 use super::{RunSpec, RunSummary, VaryAxis};
+use crate::output::format_number;
 use std::path::{Path, PathBuf};
 
 /// What became of one run.
@@ -112,13 +113,13 @@ pub fn write_csv(path: &Path, axes: &[VaryAxis], rows: &[SweepRow]) -> Result<()
                 s.newton_iterations.to_string(),
                 s.unconverged_steps.to_string(),
                 s.stalled_steps.to_string(),
-                s.min_ground_gap.map(|g| g.to_string()).unwrap_or_default(),
-                s.min_volume_ratio.to_string(),
-                s.energy_start.to_string(),
-                s.energy_end.to_string(),
-                s.final_com[0].to_string(),
-                s.final_com[1].to_string(),
-                s.final_com[2].to_string(),
+                s.min_ground_gap.map(format_number).unwrap_or_default(),
+                format_number(s.min_volume_ratio),
+                format_number(s.energy_start),
+                format_number(s.energy_end),
+                format_number(s.final_com[0]),
+                format_number(s.final_com[1]),
+                format_number(s.final_com[2]),
             ]),
             None => record.extend(SUMMARY_COLUMNS.map(|_| String::new())),
         }

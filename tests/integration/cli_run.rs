@@ -231,3 +231,60 @@ fn every_builtin_runs_a_few_frames() {
         );
     }
 }
+
+/// Issue 31, item 6: the data files write numbers in the shortest round-trip
+/// form, with an exponent where that is shorter (docs/reference.md), so no
+/// cell of `stats.csv` is a long run of zeros, and the OBJ's coordinates
+/// are as short.
+#[test]
+fn stats_and_surfaces_write_short_numbers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto(
+        tmp.path(),
+        &[
+            "run",
+            "drop-3d",
+            "--frames",
+            "4",
+            "--no-render",
+            "--save-surface",
+            "obj",
+            "--out",
+            "o",
+        ],
+    );
+    assert_code(&o, 0);
+    let (header, rows) = read_csv(&tmp.path().join("o/stats.csv"));
+    assert_eq!(rows.len(), 4);
+    for row in &rows {
+        for (name, cell) in header.iter().zip(row) {
+            assert!(
+                cell.len() <= 24,
+                "{name} = {cell}: {} characters",
+                cell.len()
+            );
+            // The timings are milliseconds with three decimals; every other
+            // number is the shorter of its plain and exponent forms.
+            if !cell.is_empty() && !name.ends_with("_ms") {
+                let x = parse(cell);
+                let shortest = x.to_string().len().min(format!("{x:e}").len());
+                assert_eq!(
+                    cell.len(),
+                    shortest,
+                    "{name} = {cell} is not as short as it can be"
+                );
+            }
+        }
+    }
+    let obj = std::fs::read_to_string(tmp.path().join("o/surfaces/surface_0003.obj")).unwrap();
+    let mut vertices = 0;
+    for line in obj.lines().filter(|l| l.starts_with("v ")) {
+        for word in line.split_whitespace().skip(1) {
+            assert!(word.len() <= 15, "{line}");
+            let x: f32 = word.parse().unwrap();
+            assert!(x.is_finite(), "{line}");
+        }
+        vertices += 1;
+    }
+    assert!(vertices > 0, "{obj}");
+}

@@ -26,7 +26,7 @@
 //! One `#[test]` per case (`cargo test --test integration hard_cases::twist_3d`
 //! runs one). `ELASTO_HARD_CASES=twist-3d,squash-2d` limits the table command
 //! to the cases named. The `#[ignore]`d `hard_case_table` runs the same cases and rewrites the
-//! README's "Hard cases" table (`cargo test --test integration hard_cases -- --ignored`).
+//! table of `docs/hard-cases.md` (`cargo test --test integration hard_cases -- --ignored`).
 
 use crate::cli_common as common;
 use common::*;
@@ -434,10 +434,10 @@ fn every_hard_case_has_a_test() {
     }
 }
 
-/// Regenerates the README's "Hard cases" table (between its markers) from a
+/// Regenerates the table of `docs/hard-cases.md` (between its markers) from a
 /// run of every case: `cargo test --test integration hard_cases -- --ignored`.
 #[test]
-#[ignore = "rewrites README.md; run by hand to refresh the table"]
+#[ignore = "rewrites docs/hard-cases.md; run by hand to refresh the table"]
 fn hard_case_table() {
     let tmp = tempfile::tempdir().unwrap();
     let mut table = String::from(
@@ -497,18 +497,20 @@ fn hard_case_table() {
             ));
         }
     }
-    let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
-    let text = std::fs::read_to_string(&readme).unwrap();
+    let page = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/hard-cases.md");
+    let text = std::fs::read_to_string(&page).unwrap();
     let (begin, end) = (
         "<!-- hard-case table: begin -->\n",
         "<!-- hard-case table: end -->",
     );
     let start = text
         .find(begin)
-        .expect("README has the table's begin marker")
+        .expect("docs/hard-cases.md has the table's begin marker")
         + begin.len();
-    let stop = text.find(end).expect("README has the table's end marker");
+    let stop = text
+        .find(end)
+        .expect("docs/hard-cases.md has the table's end marker");
     let updated = format!("{}{table}{}", &text[..start], &text[stop..]);
-    std::fs::write(&readme, updated).unwrap();
+    std::fs::write(&page, updated).unwrap();
     println!("{table}");
 }

@@ -1,7 +1,8 @@
 //! The crate's modules form one-way layers: no module refers to a module of a layer above its own.
 //!
-//! The order, lowest first, is written once, in [`LAYERS`] (the crate doc in
-//! `src/lib.rs` repeats it for readers). Every `crate::` path in the code
+//! The order, lowest first, is written once, in [`LAYERS`]; the crate doc in
+//! `src/lib.rs` and `docs/architecture.md` repeat it for readers, and a test
+//! checks that both say the same. Every `crate::` path in the code
 //! of `src/` (comments aside) is checked, including grouped imports such as
 //! `use crate::{math::Vector, sim::Simulation}` and `$crate::` in macros.
 //! Modules of one layer may refer to each other.
@@ -171,4 +172,71 @@ fn the_check_finds_upward_imports_in_every_form() {
         assert!(found.is_empty(), "{code:?} gave {found:?}");
     }
     assert_eq!(violations("nowhere", "nowhere.rs", "").len(), 1);
+}
+
+/// The numbered layer list between `<!-- layers: begin -->` and
+/// `<!-- layers: end -->` in `text` (with `//! ` prefixes removed): one
+/// layer per line, `1. `math`, `input_file``, links or plain code.
+fn documented_layers(text: &str) -> Vec<Vec<String>> {
+    let lines: Vec<&str> = text
+        .lines()
+        .map(|l| l.trim_start().trim_start_matches("//!").trim())
+        .collect();
+    let begin = lines
+        .iter()
+        .position(|l| *l == "<!-- layers: begin -->")
+        .expect("a `<!-- layers: begin -->` marker");
+    let end = lines
+        .iter()
+        .position(|l| *l == "<!-- layers: end -->")
+        .expect("a `<!-- layers: end -->` marker");
+    lines[begin + 1..end]
+        .iter()
+        .enumerate()
+        .map(|(i, line)| {
+            let items = line
+                .strip_prefix(&format!("{}. ", i + 1))
+                .unwrap_or_else(|| {
+                    panic!("layer line {} is not numbered {}: {line}", i + 1, i + 1)
+                });
+            items
+                .split(',')
+                .map(|item| {
+                    item.trim_matches(|c: char| {
+                        c == '[' || c == ']' || c == '`' || c.is_whitespace()
+                    })
+                    .to_owned()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `src/lib.rs`'s crate doc and `docs/architecture.md` list the enforced layers.
+#[test]
+fn the_documented_layers_are_the_enforced_ones() {
+    let enforced: Vec<Vec<String>> = LAYERS
+        .iter()
+        .map(|layer| layer.iter().map(|m| (*m).to_owned()).collect())
+        .collect();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for file in ["src/lib.rs", "docs/architecture.md"] {
+        let text = std::fs::read_to_string(root.join(file)).unwrap();
+        assert_eq!(
+            documented_layers(&text),
+            enforced,
+            "{file}'s layer list differs from LAYERS in tests/integration/layering.rs"
+        );
+    }
+    // Every top-level module is in a layer: the files of `src/` and the layers agree.
+    let mut modules = BTreeSet::new();
+    for entry in std::fs::read_dir(root.join("src")).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        let name = name.trim_end_matches(".rs").to_owned();
+        if name != "lib" && name != "main" {
+            modules.insert(name);
+        }
+    }
+    let layered: BTreeSet<String> = enforced.into_iter().flatten().collect();
+    assert_eq!(modules, layered, "the modules of src/ against the layers");
 }

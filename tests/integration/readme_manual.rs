@@ -1,21 +1,56 @@
-//! The README is the user's manual: every flag of every command and every
-//! scene key that a resolved scene can hold is documented there, each key
-//! in the table of its own section (`### [render.camera]`, ...).
+//! The README and `docs/` are the user's manual: every command has its
+//! line in the README and its section in `docs/commands.md`; every flag of
+//! every command, every scene key that a resolved scene can hold (each in
+//! the table of its own section of `docs/scene-reference.md`, `## [render.camera]`, ...),
+//! every file a run writes and every column of `stats.csv`, `sweep.csv` and
+//! `study.csv` is documented; the README stays short (at most
+//! [`README_MAX_LINES`] lines) and its scene example is a valid scene.
 
 use crate::cli_common as common;
 use common::*;
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
 
 const README: &str = include_str!("../../README.md");
+const COMMANDS: &str = include_str!("../../docs/commands.md");
+const SCENE_REFERENCE: &str = include_str!("../../docs/scene-reference.md");
+const REFERENCE: &str = include_str!("../../docs/reference.md");
+/// Every other page of `docs/`, so that a file moved or dropped fails to build.
+const OTHER_DOCS: [&str; 5] = [
+    include_str!("../../docs/gallery.md"),
+    include_str!("../../docs/physics.md"),
+    include_str!("../../docs/benchmarks.md"),
+    include_str!("../../docs/hard-cases.md"),
+    include_str!("../../docs/architecture.md"),
+];
 
-/// The keys listed in each scene-file section of the README: `"" ` for the
-/// top level, `"render.camera"` for `### [render.camera] ...`.
+/// The README says what elasto is and links into `docs/`; it grows no longer than this.
+const README_MAX_LINES: usize = 250;
+
+/// The README and every page of `docs/`, one text.
+fn manual() -> String {
+    [README, COMMANDS, SCENE_REFERENCE, REFERENCE]
+        .into_iter()
+        .chain(OTHER_DOCS)
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The keys listed in each scene-file section of `docs/scene-reference.md`:
+/// `""` for the top level, `"render.camera"` for `## [render.camera] ...`.
 fn documented_keys() -> BTreeMap<String, BTreeSet<String>> {
     let mut sections: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
     let mut current: Option<String> = None;
-    for line in README.lines() {
-        if let Some(title) = line.strip_prefix("### ") {
+    let mut fence = false;
+    for line in SCENE_REFERENCE.lines() {
+        if line.starts_with("```") {
+            fence = !fence;
+        }
+        if fence {
+            continue;
+        }
+        if let Some(title) = line.strip_prefix("## ") {
             current = if title.starts_with("Top level") {
                 Some(String::new())
             } else {
@@ -31,7 +66,7 @@ fn documented_keys() -> BTreeMap<String, BTreeSet<String>> {
                             .map(|(table, _)| table.to_owned())
                     })
             };
-        } else if line.starts_with("## ") {
+        } else if line.starts_with("# ") {
             current = None;
         } else if let (Some(section), Some(row)) = (&current, line.strip_prefix("| `"))
             && let Some((key, _)) = row.split_once('`')
@@ -71,7 +106,40 @@ fn scene_keys(table: &toml::Table, path: &str, keys: &mut BTreeSet<(String, Stri
 }
 
 #[test]
-fn every_flag_of_every_command_is_in_the_readme() {
+fn the_readme_is_short() {
+    let lines = README.lines().count();
+    assert!(
+        lines <= README_MAX_LINES,
+        "README.md has {lines} lines, more than {README_MAX_LINES}: move the detail into docs/"
+    );
+}
+
+/// The README's scene example is a scene elasto accepts.
+#[test]
+fn the_readmes_scene_example_is_valid() {
+    let tmp = tempfile::tempdir().unwrap();
+    let start = README
+        .find("```toml\n")
+        .expect("the README has a scene example")
+        + "```toml\n".len();
+    let end = start + README[start..].find("```").unwrap();
+    let name = README[start..end]
+        .lines()
+        .find_map(|l| l.strip_prefix("name = \""))
+        .and_then(|l| l.split('"').next())
+        .expect("the example has a name");
+    let file = format!("{name}.toml");
+    std::fs::write(tmp.path().join(&file), &README[start..end]).unwrap();
+    let o = elasto(tmp.path(), &["check", &file]);
+    assert_code(&o, 0);
+    assert!(
+        README.contains(&format!("elasto run {file}")),
+        "the README runs its example"
+    );
+}
+
+#[test]
+fn every_flag_of_every_command_is_in_the_manual() {
     let tmp = tempfile::tempdir().unwrap();
     let mut flags = BTreeSet::new();
     // Every subcommand `elasto --help` lists.
@@ -87,8 +155,12 @@ fn every_flag_of_every_command_is_in_the_readme() {
     assert!(commands.len() >= 5, "{commands:?} from:\n{help}");
     for command in &commands {
         assert!(
-            README.contains(&format!("### `elasto {command}")),
-            "no README section for `elasto {command}`"
+            README.contains(&format!("- `elasto {command}")),
+            "no README line for `elasto {command}`"
+        );
+        assert!(
+            COMMANDS.contains(&format!("\n## `elasto {command}")),
+            "no docs/commands.md section for `elasto {command}`"
         );
         let o = elasto(tmp.path(), &[command.as_str(), "--help"]);
         assert_code(&o, 0);
@@ -116,17 +188,17 @@ fn every_flag_of_every_command_is_in_the_readme() {
         .iter()
         .filter(|f| {
             let flag = f.split_once(' ').unwrap().1;
-            !README.contains(&format!("`{flag}"))
+            !COMMANDS.contains(&format!("`{flag}"))
         })
         .collect();
     assert!(
         missing.is_empty(),
-        "flags missing from README.md: {missing:?}"
+        "flags missing from docs/commands.md: {missing:?}"
     );
 }
 
 #[test]
-fn every_key_of_a_resolved_scene_is_in_its_readme_section() {
+fn every_key_of_a_resolved_scene_and_every_stats_column_is_documented() {
     let tmp = tempfile::tempdir().unwrap();
     // The built-in scenes, plus the optional keys they leave out.
     let twist = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/hard/twist-3d.toml");
@@ -164,6 +236,7 @@ fn every_key_of_a_resolved_scene_is_in_its_readme_section() {
         ),
     ];
     let mut keys = BTreeSet::new();
+    let mut columns = BTreeSet::new();
     for (i, (scene, extra)) in runs.iter().enumerate() {
         let out = format!("resolved-{i}");
         let mut args = vec![
@@ -182,7 +255,29 @@ fn every_key_of_a_resolved_scene_is_in_its_readme_section() {
         let resolved = std::fs::read_to_string(tmp.path().join(&out).join("scene.toml")).unwrap();
         let table: toml::Table = resolved.parse().unwrap();
         scene_keys(&table, "", &mut keys);
+        let (header, _) = read_csv(&tmp.path().join(&out).join("stats.csv"));
+        columns.extend(header);
     }
+    for expected in [
+        "gravity",
+        "barrier",
+        "contact",
+        "boundary_error",
+        "min_distance",
+    ] {
+        assert!(
+            columns.contains(expected),
+            "no run has {expected}: {columns:?}"
+        );
+    }
+    let undocumented: Vec<_> = columns
+        .iter()
+        .filter(|c| !REFERENCE.contains(&format!("`{c}`")))
+        .collect();
+    assert!(
+        undocumented.is_empty(),
+        "stats.csv columns missing from docs/reference.md: {undocumented:?}"
+    );
     for expected in [
         ("render", "range"),
         ("render.camera", "center"),
@@ -200,7 +295,109 @@ fn every_key_of_a_resolved_scene_is_in_its_readme_section() {
         .collect();
     assert!(
         missing.is_empty(),
-        "scene keys missing from their README section (table, key): {missing:?}\n\
+        "scene keys missing from their docs/scene-reference.md section (table, key): {missing:?}\n\
          documented: {documented:?}"
     );
+}
+
+/// Every file a run writes, in every form, is in the outputs table of
+/// `docs/reference.md` (numbered files by their first name, `frame_0000.png`).
+#[test]
+fn every_output_file_is_documented() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (out, extra) in [
+        (
+            "a",
+            &["--video", "auto", "--save-meshes", "--save-surface", "obj"][..],
+        ),
+        ("b", &["--video", "gif", "--save-surface", "ply"][..]),
+    ] {
+        let mut args = vec![
+            "run",
+            "--frames",
+            "2",
+            "--resolution",
+            "64x48",
+            "-q",
+            "--out",
+            out,
+        ];
+        args.extend(extra);
+        assert_code(&elasto(tmp.path(), &args), 0);
+    }
+    let mut files = BTreeSet::new();
+    for out in ["a", "b"] {
+        collect_files(&tmp.path().join(out), "", &mut files);
+    }
+    for expected in [
+        "stats.csv",
+        "frames/frame_0000.png",
+        "video.mp4",
+        "video.gif",
+        "surfaces/surface_0000.ply",
+    ] {
+        assert!(
+            files.contains(expected),
+            "no run wrote {expected}: {files:?}"
+        );
+    }
+    let missing: Vec<_> = files
+        .iter()
+        .filter(|f| !REFERENCE.contains(&format!("`{f}")))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "output files missing from docs/reference.md: {missing:?}"
+    );
+}
+
+/// The files under `dir`, relative, with their frame numbers as `0000`.
+fn collect_files(dir: &Path, prefix: &str, files: &mut BTreeSet<String>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let entry = entry.unwrap();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let path = format!("{prefix}{name}");
+        if entry.file_type().unwrap().is_dir() {
+            collect_files(&entry.path(), &format!("{path}/"), files);
+        } else {
+            // A frame number is a run of four or more digits (`video.mp4` has one).
+            let mut numbered = String::new();
+            let mut digits = String::new();
+            for c in path.chars().chain(std::iter::once('\0')) {
+                if c.is_ascii_digit() {
+                    digits.push(c);
+                    continue;
+                }
+                if digits.len() >= 4 {
+                    numbered.push_str(&"0".repeat(digits.len()));
+                } else {
+                    numbered.push_str(&digits);
+                }
+                digits.clear();
+                if c != '\0' {
+                    numbered.push(c);
+                }
+            }
+            files.insert(numbered);
+        }
+    }
+}
+
+/// The columns of `sweep.csv` and `study.csv` are in `docs/commands.md`.
+#[test]
+fn every_sweep_and_study_column_is_documented() {
+    let sweep = ["index", "folder", "status", "exit_code", "wall_seconds"]
+        .into_iter()
+        .chain(elasto::sweep::SUMMARY_COLUMNS);
+    let study = std::iter::once("run").chain(elasto::study::STUDY_COLUMNS);
+    let missing: Vec<_> = sweep
+        .chain(study)
+        .filter(|c| !COMMANDS.contains(&format!("`{c}`")))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "sweep.csv / study.csv columns missing from docs/commands.md: {missing:?}"
+    );
+    // The whole manual, README included, is what a reader searches.
+    assert!(manual().contains("sweep.csv") && manual().contains("study.csv"));
 }

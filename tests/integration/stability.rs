@@ -111,7 +111,7 @@ fn assert_stable(
         "{name}: energy grew by a factor {energy_ratio}"
     );
     // St. Venant-Kirchhoff crushed flat is held at the inversion floor and
-    // cannot converge there (README, "StVK's limits"): its steps stall or
+    // cannot converge there (docs/physics.md, "StVK's limits"): its steps stall or
     // hit the cap, which the run reports. Neo-Hookean must converge.
     if neo_hookean {
         assert_eq!(
