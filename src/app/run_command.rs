@@ -252,9 +252,13 @@ fn run_scene<const D: usize>(
                 eprintln!("elasto: warning: {rise}");
             }
             if frame_stats.unconverged_steps + frame_stats.stalled_steps > 0 {
+                let blocked = frame_stats
+                    .blocked_by
+                    .map(|(term, blocker)| format!(" (no room for any step: {term}: {blocker})"))
+                    .unwrap_or_default();
                 let failed = format!(
                     "frame {frame} (t = {:.6} s): {} step(s) hit the iteration cap and {} \
-                     stalled in the line search, even as {} shorter steps",
+                     stalled in the line search{blocked}, even as {} shorter steps",
                     frame_stats.time,
                     frame_stats.unconverged_steps,
                     frame_stats.stalled_steps,

@@ -21,6 +21,8 @@ pub struct CollisionFreeStep {
     pub step: f64,
     /// Queries whose iteration budget ran out (their safe step was used).
     pub budget_exhausted: usize,
+    /// The stencil that set the step, when one limited it below 1.
+    pub limiting: Option<ContactStencil>,
 }
 
 /// The largest `t <= 1` such that no stencil of `stencils` touches along
@@ -33,6 +35,7 @@ pub fn collision_free_step<const D: usize>(
 ) -> CollisionFreeStep {
     let mut step = 1.0f64;
     let mut budget_exhausted = 0;
+    let mut limiting = None;
     for stencil in stencils {
         let v = &stencil.vertices;
         let moves = stencil
@@ -84,7 +87,10 @@ pub fn collision_free_step<const D: usize>(
             }
         };
         budget_exhausted += usize::from(outcome.budget_exhausted);
-        step = step.min(outcome.step);
+        if outcome.step < step {
+            step = outcome.step;
+            limiting = Some(*stencil);
+        }
         if step <= 0.0 {
             break;
         }
@@ -92,5 +98,6 @@ pub fn collision_free_step<const D: usize>(
     CollisionFreeStep {
         step: step.max(0.0),
         budget_exhausted,
+        limiting,
     }
 }

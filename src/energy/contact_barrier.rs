@@ -43,12 +43,12 @@
 //! `1e-9 L` and still shrinking from one iteration to the next. A `kappa`
 //! given in the scene is used as it is, never changed.
 
-use super::EnergyTerm;
+use super::{Blocker, EnergyTerm};
 use crate::assembly::SparseHessian;
 use crate::contact::ccd::CcdSettings;
 use crate::contact::{
-    CandidateFinder, CollisionMesh, ContactStencil, StencilEnergy, barrier_second_derivative,
-    collision_free_step,
+    CandidateFinder, CollisionMesh, ContactStencil, StencilEnergy, StencilKind,
+    barrier_second_derivative, collision_free_step,
 };
 use crate::math::Vector;
 use rayon::prelude::*;
@@ -386,6 +386,26 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
         self.active.clear();
         self.derivatives.clear();
         step.step
+    }
+
+    fn blocker(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> Option<Blocker> {
+        self.finder.find(
+            &self.mesh,
+            x,
+            Some(dx),
+            self.settings.activation_distance,
+            self.settings.self_contact,
+            &mut self.stencils,
+        );
+        let step = collision_free_step(&self.stencils, x, dx, &self.ccd);
+        self.active.clear();
+        self.derivatives.clear();
+        let stencil = step.limiting.filter(|_| !(step.step > 0.0))?;
+        Some(Blocker::Pair {
+            corners: stencil.vertices,
+            count: stencil.vertex_count(),
+            edge_edge: stencil.kind == StencilKind::EdgeEdge,
+        })
     }
 
     fn begin_iteration(&mut self, x: &[Vector<D>]) -> bool {

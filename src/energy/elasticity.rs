@@ -239,6 +239,45 @@ impl<const D: usize> Elasticity<D> {
             })
             .collect())
     }
+
+    /// Element `e`'s cap on the step `x -> x + t dx` (Neo-Hookean, StVK):
+    /// the first `t` at which its volume ratio falls to
+    /// [`volume_kept_per_step`] of its current value (IPC's relative
+    /// filter), halved until the ratio there is safely above half of that.
+    fn element_cap(&self, e: usize, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
+        let simplex = self.mesh.simplex(e);
+        let dm_inv = self.mesh.rest_elements()[e].dm_inv;
+        let ds = edge_matrix(x, simplex);
+        let dds = edge_matrix(dx, simplex);
+        let ratio = |t: f64| determinant(&((ds + dds * t) * dm_inv));
+        // J(t) = det(F + t dF), dF = dD_s D_m^{-1}, in closed form.
+        let mut volume = Polynomial::determinant_of_line(&(ds * dm_inv), &(dds * dm_inv));
+        let j0 = volume.coefficients()[0];
+        if !(j0 > 0.0) {
+            // Not reachable (the energy is infinite there): keep the
+            // element from crossing zero again.
+            return first_root_in(&volume, 1.0).map_or(1.0, |t| 0.9 * t);
+        }
+        let floor = volume_kept_per_step(D) * j0;
+        volume.coefficients_mut()[0] -= floor;
+        // For t in [0, 1], J(t) - floor >= c_0 - sum of the negative
+        // higher coefficients: when that is positive (most elements,
+        // most steps) there is no root to look for.
+        let lower_bound = volume.coefficients()[1..]
+            .iter()
+            .fold(volume.coefficients()[0], |bound, c| bound + c.min(0.0));
+        let mut cap = if lower_bound > 0.0 {
+            1.0
+        } else {
+            first_root_in(&volume, 1.0).unwrap_or(1.0)
+        };
+        let mut halvings = 0;
+        while !(ratio(cap) >= 0.5 * floor) && halvings < 60 {
+            cap *= 0.5;
+            halvings += 1;
+        }
+        cap
+    }
 }
 
 /// Von Mises equivalent stress of the Cauchy stress `sigma = P F^T / J`:
@@ -330,41 +369,7 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
         if !self.material.forbids_inversion() {
             return 1.0;
         }
-        let kept = volume_kept_per_step(D);
-        let cap = |e: usize| {
-            let simplex = self.mesh.simplex(e);
-            let dm_inv = self.mesh.rest_elements()[e].dm_inv;
-            let ds = edge_matrix(x, simplex);
-            let dds = edge_matrix(dx, simplex);
-            let ratio = |t: f64| determinant(&((ds + dds * t) * dm_inv));
-            // J(t) = det(F + t dF), dF = dD_s D_m^{-1}, in closed form.
-            let mut volume = Polynomial::determinant_of_line(&(ds * dm_inv), &(dds * dm_inv));
-            let j0 = volume.coefficients()[0];
-            if !(j0 > 0.0) {
-                // Not reachable (the energy is infinite there): keep the
-                // element from crossing zero again.
-                return first_root_in(&volume, 1.0).map_or(1.0, |t| 0.9 * t);
-            }
-            let floor = kept * j0;
-            volume.coefficients_mut()[0] -= floor;
-            // For t in [0, 1], J(t) - floor >= c_0 - sum of the negative
-            // higher coefficients: when that is positive (most elements,
-            // most steps) there is no root to look for.
-            let lower_bound = volume.coefficients()[1..]
-                .iter()
-                .fold(volume.coefficients()[0], |bound, c| bound + c.min(0.0));
-            let mut cap = if lower_bound > 0.0 {
-                1.0
-            } else {
-                first_root_in(&volume, 1.0).unwrap_or(1.0)
-            };
-            let mut halvings = 0;
-            while !(ratio(cap) >= 0.5 * floor) && halvings < 60 {
-                cap *= 0.5;
-                halvings += 1;
-            }
-            cap
-        };
+        let cap = |e: usize| self.element_cap(e, x, dx);
         // The minimum does not depend on the order: no need for a fixed one.
         let count = self.mesh.element_count();
         if count < PARALLEL_MIN_ELEMENTS {

@@ -22,7 +22,7 @@
 //! spare. `E_0` is floored at `M (|g| a + a^2 / 1 s^2)` so a body at rest near
 //! the ground still gets a usable stiffness.
 
-use super::EnergyTerm;
+use super::{Blocker, EnergyTerm};
 use crate::assembly::SparseHessian;
 use crate::contact::{barrier, barrier_derivative, barrier_second_derivative};
 use crate::math::{Matrix, UP_AXIS, Vector};
@@ -122,5 +122,12 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
             .filter(|(_, step)| step[UP_AXIS] < 0.0)
             .map(|(xi, step)| CONTACT_STEP_FRACTION * self.gap(xi) / -step[UP_AXIS])
             .fold(1.0, f64::min)
+    }
+
+    fn blocker(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> Option<Blocker> {
+        x.iter()
+            .zip(dx)
+            .position(|(xi, step)| step[UP_AXIS] < 0.0 && !(self.gap(xi) > 0.0))
+            .map(Blocker::Vertex)
     }
 }

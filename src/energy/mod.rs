@@ -52,6 +52,55 @@ pub use prescribed_motion::PrescribedMotion;
 use crate::assembly::SparseHessian;
 use crate::math::Vector;
 
+/// Where a line search has no room: what makes a term's step cap 0
+/// ([`EnergyTerm::blocker`]). Vertex ids are the simulation's (all bodies'
+/// meshes joined, in scene order). An element never blocks: the relative
+/// volume filter of the materials that forbid inversion always leaves a
+/// positive step from an uninverted element (`Elasticity::max_step`); only
+/// the ground and contact, at a gap of exactly zero, can leave none.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Blocker {
+    /// A vertex on (or below) the ground that the step moves down.
+    Vertex(usize),
+    /// Two surface primitives at zero distance along the step: the corners
+    /// (3 in 2D: vertex against edge; 4 in 3D: vertex against triangle, or
+    /// edge against edge).
+    Pair {
+        /// The corners' vertex ids (the first `count`).
+        corners: [usize; 4],
+        /// How many corners there are: 3 or 4.
+        count: usize,
+        /// Whether the pair is two edges (3D).
+        edge_edge: bool,
+    },
+}
+
+impl std::fmt::Display for Blocker {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Blocker::Vertex(v) => {
+                write!(f, "vertex {v} is on the ground and the step moves it down")
+            }
+            Blocker::Pair {
+                corners,
+                count,
+                edge_edge,
+            } => {
+                let c = &corners[..count];
+                match (count, edge_edge) {
+                    (3, _) => write!(f, "vertex {} touches edge {}-{}", c[0], c[1], c[2]),
+                    (_, false) => write!(
+                        f,
+                        "vertex {} touches triangle {}-{}-{}",
+                        c[0], c[1], c[2], c[3]
+                    ),
+                    (_, true) => write!(f, "edge {}-{} touches edge {}-{}", c[0], c[1], c[2], c[3]),
+                }
+            }
+        }
+    }
+}
+
 /// One additive term of the incremental potential.
 pub trait EnergyTerm<const D: usize>: Send + Sync {
     /// A short name for statistics ("elastic", "gravity", "barrier", ...).
@@ -82,6 +131,13 @@ pub trait EnergyTerm<const D: usize>: Send + Sync {
     /// [`Self::value`] covers every trial point on it.
     fn max_step(&mut self, _x: &[Vector<D>], _dx: &[Vector<D>]) -> f64 {
         1.0
+    }
+    /// What leaves no step at all when [`Self::max_step`] is 0 (the vertex,
+    /// element or pair whose feasibility allows no move along `dx`), for the
+    /// report of a step that could not move. `None` when the term allows a
+    /// step. Called only after a zero cap, so it may repeat the search.
+    fn blocker(&mut self, _x: &[Vector<D>], _dx: &[Vector<D>]) -> Option<Blocker> {
+        None
     }
     /// Called at the start of every solver iteration, at the iterate `x`,
     /// before its gradient and Hessian: a contact term finds the stencils

@@ -251,6 +251,7 @@ mod tests {
             reanalyses: 0,
             subdivided_steps: 0,
             damped_steps: 0,
+            blocked_by: None,
             boundary_error: None,
             contact: None,
             energy: EnergyBreakdown {

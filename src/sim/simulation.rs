@@ -163,6 +163,7 @@ impl<const D: usize> Simulation<D> {
             reanalyses: 0,
             subdivided_steps: 0,
             damped_steps: 0,
+            blocked_by: None,
             boundary_error: self.motions.iter().any(|m| m.is_moving()).then_some(0.0),
             contact: self.contact.as_ref().map(|c| {
                 let (min_distance, active_pairs) = c.proximity(&self.positions);

@@ -1,5 +1,6 @@
 //! Statistics the time stepper returns to its caller: energies by term, solver work and state measures.
 
+use crate::energy::Blocker;
 use crate::math::Vector;
 use crate::solver::{PhaseTimes, SolverStats};
 use std::time::Duration;
@@ -91,6 +92,9 @@ pub struct FrameStats<const D: usize> {
     /// Substeps of a scheme that guards its energy (Newmark) that gained
     /// energy and were taken again as backward-Euler steps.
     pub damped_steps: usize,
+    /// For the first stalled substep whose line search had no room at all
+    /// (a zero step cap): the term and what blocked it.
+    pub blocked_by: Option<(&'static str, Blocker)>,
     /// The largest distance of a prescribed vertex from its path at the end
     /// of a substep (`None` in a scene without moving pinned regions).
     pub boundary_error: Option<f64>,

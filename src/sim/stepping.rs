@@ -440,6 +440,7 @@ impl<const D: usize> Simulation<D> {
         let mut totals = SolverStats::default();
         let (mut unconverged_steps, mut stalled_steps, mut subdivided_steps) = (0, 0, 0);
         let mut damped_steps = 0;
+        let mut blocked_by = None;
         let mut boundary_error: Option<f64> = None;
         let contact_before = self.contact.as_ref().map(|c| c.counters());
         for _ in 0..substeps {
@@ -453,6 +454,9 @@ impl<const D: usize> Simulation<D> {
             stalled_steps += usize::from(step.stalled);
             subdivided_steps += usize::from(step.subdivided);
             damped_steps += step.damped_steps;
+            if step.stalled && blocked_by.is_none() {
+                blocked_by = step.blocked_by;
+            }
             if let Some(error) = step.constraint_error {
                 boundary_error = Some(boundary_error.map_or(error, |e| e.max(error)));
             }
@@ -466,6 +470,7 @@ impl<const D: usize> Simulation<D> {
         frame.reanalyses = totals.reanalyses;
         frame.subdivided_steps = subdivided_steps;
         frame.damped_steps = damped_steps;
+        frame.blocked_by = blocked_by;
         if let Some(error) = boundary_error {
             frame.boundary_error = Some(error);
         }

@@ -93,6 +93,9 @@ pub fn newton<const D: usize>(
         // A zero cap (no term's caps are zero by design: round-off at a
         // contact) leaves no step: the step is reported as stalled.
         let backtracks = if t > 0.0 { MAX_BACKTRACKS + 1 } else { 0 };
+        if !(t > 0.0) {
+            stats.blocked_by = objective.blocker(x, &direction);
+        }
         for _ in 0..backtracks {
             for ((xt, xi), di) in trial.iter_mut().zip(x.iter()).zip(&direction) {
                 *xt = xi + di * t;

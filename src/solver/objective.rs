@@ -1,7 +1,7 @@
 //! The incremental potential as a weighted sum of energy terms.
 
 use crate::assembly::{FactorisationError, SparseHessian};
-use crate::energy::EnergyTerm;
+use crate::energy::{Blocker, EnergyTerm};
 use crate::math::Vector;
 
 /// `E(x) = sum_k w_k U_k(x)`: the terms a scene asks for with their weights
@@ -100,5 +100,17 @@ impl<'a, const D: usize> Objective<'a, D> {
             .iter_mut()
             .map(|(term, _)| term.max_step(x, dx))
             .fold(1.0, f64::min)
+    }
+
+    /// The first term's answer to what leaves no step along `dx`, after
+    /// [`Self::max_step`] came out 0.
+    pub fn blocker(
+        &mut self,
+        x: &[Vector<D>],
+        dx: &[Vector<D>],
+    ) -> Option<(&'static str, Blocker)> {
+        self.terms
+            .iter_mut()
+            .find_map(|(term, _)| Some((term.name(), term.blocker(x, dx)?)))
     }
 }

@@ -1,5 +1,6 @@
 //! What the nonlinear solver did in one time step: iteration counts, outcome and time per phase.
 
+use crate::energy::Blocker;
 use std::time::Duration;
 
 /// Wall time spent in each phase of the solver.
@@ -52,6 +53,9 @@ pub struct SolverStats {
     /// of the step, for a step whose moving regions had to be pulled onto
     /// their path within the solve (`None` otherwise: they were put on it).
     pub constraint_error: Option<f64>,
+    /// What left the line search no room at all (a zero step cap), with
+    /// its term's name, if that is why the step stalled.
+    pub blocked_by: Option<(&'static str, Blocker)>,
     /// Final convergence measure of the last iteration (see
     /// [`SolverSettings::tolerance`](super::SolverSettings::tolerance)).
     pub residual: f64,
@@ -85,6 +89,7 @@ impl SolverStats {
         total.stalled = !total.converged && (first.stalled || second.stalled);
         total.subdivided = true;
         total.residual = first.residual.max(second.residual);
+        total.blocked_by = first.blocked_by.or(second.blocked_by);
         total.constraint_error = match (first.constraint_error, second.constraint_error) {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),

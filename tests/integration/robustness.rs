@@ -167,3 +167,92 @@ fn newmark_never_ends_a_frame_above_its_starting_energy() {
         "only {undamped_in_flight} of 101 frames in flight without a damped step"
     );
 }
+
+/// Issue 30 item 2: a line search with no room at all names what blocks it
+/// (the run's warning then says "no room for any step: ground: vertex 1 is
+/// on the ground and the step moves it down"). By design no cap is zero at
+/// a state the solver reaches; these are the degenerate states where one is.
+#[test]
+fn a_step_with_no_room_names_what_blocks_it() {
+    use elasto::energy::{Blocker, EnergyTerm, GroundBarrier};
+    use elasto::math::Vector2;
+    let mut ground = GroundBarrier::new(0.0, 0.1, 50.0);
+    let x = [Vector2::new(0.0, 1.0), Vector2::new(1.0, 0.0)];
+    let down = [Vector2::new(0.0, -1.0), Vector2::new(0.0, -1.0)];
+    let up = [Vector2::new(0.0, -1.0), Vector2::new(0.0, 1.0)];
+    assert_eq!(ground.max_step(&x, &down), 0.0);
+    assert_eq!(ground.blocker(&x, &down), Some(Blocker::Vertex(1)));
+    assert!(ground.max_step(&x, &up) > 0.0);
+    assert_eq!(ground.blocker(&x, &up), None);
+    assert_eq!(
+        Blocker::Vertex(1).to_string(),
+        "vertex 1 is on the ground and the step moves it down"
+    );
+
+    // Two boxes, the upper resting exactly on the lower (gap 0), pushed down.
+    let lower = crate::support::unit_box::<2>();
+    let n = lower.vertex_count();
+    let lift = Vector2::new(0.3, 1.0);
+    let rest: Vec<Vector2> = lower
+        .rest_positions()
+        .iter()
+        .copied()
+        .chain(lower.rest_positions().iter().map(|p| p + lift))
+        .collect();
+    let simplices = lower
+        .simplices()
+        .map(<[usize]>::to_vec)
+        .chain(lower.simplices().map(|s| s.iter().map(|v| v + n).collect()))
+        .collect();
+    let mesh = elasto::mesh::Mesh::new(rest.clone(), simplices).unwrap();
+    let owner: Vec<usize> = (0..2 * n).map(|v| v / n).collect();
+    let mut contact = elasto::energy::ContactBarrier::new(
+        elasto::contact::CollisionMesh::new(&mesh, &owner),
+        elasto::energy::ContactSettings {
+            activation_distance: 0.01,
+            stiffness: Some(1e6),
+            self_contact: true,
+        },
+        &vec![1.0; 2 * n],
+        2.0,
+        &rest,
+    );
+    let push: Vec<Vector2> = (0..2 * n)
+        .map(|v| Vector2::new(0.0, if v < n { 0.0 } else { -0.5 }))
+        .collect();
+    assert_eq!(contact.max_step(&rest, &push), 0.0);
+    match contact.blocker(&rest, &push) {
+        Some(Blocker::Pair {
+            corners,
+            count: 3,
+            edge_edge: false,
+        }) => {
+            // One vertex of one box against an edge of the other.
+            let box_of = |v: usize| v / n;
+            assert_ne!(box_of(corners[0]), box_of(corners[1]));
+            assert_eq!(box_of(corners[1]), box_of(corners[2]));
+        }
+        other => panic!("expected a point-edge pair, got {other:?}"),
+    }
+    // Away from each other by a gap: room again, and nothing blocks.
+    let apart: Vec<Vector2> = rest
+        .iter()
+        .enumerate()
+        .map(|(v, p)| {
+            if v < n {
+                *p
+            } else {
+                p + Vector2::new(0.0, 0.005)
+            }
+        })
+        .collect();
+    assert!(contact.max_step(&apart, &push) > 0.0);
+    assert_eq!(contact.blocker(&apart, &push), None);
+
+    let pair = Blocker::Pair {
+        corners: [4, 7, 8, 0],
+        count: 3,
+        edge_edge: false,
+    };
+    assert_eq!(pair.to_string(), "vertex 4 touches edge 7-8");
+}
