@@ -11,7 +11,7 @@
 //! `Wc × Hc ≥ |R|` (grown as needed, by 64 pixels), with one sample per
 //! pixel (`body_coverage` anti-aliases in the shaders), and reads back only
 //! that: the frame is the backdrop with the tile as its patch
-//! (`frame_image`).
+//! (`renderer`).
 //!
 //! The tile shows the same pixels as the whole image: a whole-image clip
 //! position `c` (pixel `p = ((c_x / c_w + 1) W / 2, (1 − c_y / c_w) H / 2)`
@@ -35,9 +35,9 @@
 //! vertex and every edge line's square caps with a margin of two pixels.
 
 use super::RenderError;
-use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope};
 use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources};
+use super::pixel_rect::{Patch, PixelRect};
 use super::tile_slot::TileSlot;
 use nalgebra::{Matrix4, Vector4};
 

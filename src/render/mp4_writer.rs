@@ -33,10 +33,10 @@
 //! whole run succeeded, and an interrupt removes it (`partial_file.rs`).
 
 use super::RenderError;
-use super::frame_image::FrameImage;
 use super::frame_yuv::{Yuv420Frames, padded_size};
 use super::partial_file::PartialFile;
-use super::video::{VideoSpec, VideoWriter, frame_delay};
+use super::video_writer::{VideoSpec, VideoWriter, frame_delay};
+use image::RgbaImage;
 use openh264::OpenH264API;
 use openh264::encoder::{
     BitRate, EncodedBitStream, Encoder, EncoderConfig, FrameRate, IntraFramePeriod,
@@ -46,7 +46,6 @@ use openh264::formats::YUVSlices;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// The largest frame the encoder takes (either way up): OpenH264 stops at
 /// H.264 level 5.2.
@@ -243,11 +242,10 @@ fn strip_start_code(unit: &[u8]) -> &[u8] {
 }
 
 impl VideoWriter for Mp4Writer {
-    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
         let index = self.frames;
         self.i420.clear();
-        self.planes
-            .for_each_span(frame, |span| self.i420.extend_from_slice(span));
+        self.i420.extend_from_slice(self.planes.convert(frame));
         let (width, height) = (self.size.0 as usize, self.size.1 as usize);
         if self.i420.len() != width * height * 3 / 2 {
             return Err(encode_error(

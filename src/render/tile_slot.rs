@@ -11,9 +11,9 @@
 
 use super::RenderError;
 use super::body_tile::tile_transform;
-use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{padded_row_bytes, readback_buffer};
+use super::pixel_rect::{Patch, PixelRect};
 use super::renderer::{encode_texture_copy, read_buffer};
 
 /// Tile targets grow in steps of this many pixels per side.
