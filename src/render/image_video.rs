@@ -6,6 +6,7 @@ use super::video_writer::VideoSpec;
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Writes `frames` (all `width` x `height`, `frame_count` of them) as a video
 /// of `format` at `path`, at `fps` frames per second. Like a run's video it
@@ -40,7 +41,7 @@ pub fn write_image_video(
                 frame.height()
             )));
         }
-        writer.push(&frame)?;
+        writer.push(&Arc::new(frame))?;
         pushed += 1;
     }
     if pushed != frame_count {

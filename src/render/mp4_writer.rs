@@ -46,6 +46,7 @@ use openh264::formats::YUVSlices;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The largest frame the encoder takes (either way up): OpenH264 stops at
 /// H.264 level 5.2.
@@ -91,8 +92,6 @@ pub(crate) struct Mp4Writer {
     planes: Yuv420Frames,
     /// The padded frame size.
     size: (u32, u32),
-    /// The latest frame as one I420 buffer: Y, then Cb, then Cr.
-    i420: Vec<u8>,
     muxer: mp4::Mp4Writer<BufWriter<File>>,
     /// The first frame's SPS and PPS, once the track is added.
     parameter_sets: Option<(Vec<u8>, Vec<u8>)>,
@@ -149,7 +148,6 @@ impl Mp4Writer {
             encoder,
             planes: Yuv420Frames::new((spec.width, spec.height), spec.background),
             size,
-            i420: Vec::new(),
             muxer,
             parameter_sets: None,
             sample: Vec::new(),
@@ -242,22 +240,22 @@ fn strip_start_code(unit: &[u8]) -> &[u8] {
 }
 
 impl VideoWriter for Mp4Writer {
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let index = self.frames;
-        self.i420.clear();
-        self.i420.extend_from_slice(self.planes.convert(frame));
+        // One I420 buffer: Y, then Cb, then Cr.
+        let i420 = self.planes.convert(frame);
         let (width, height) = (self.size.0 as usize, self.size.1 as usize);
-        if self.i420.len() != width * height * 3 / 2 {
+        if i420.len() != width * height * 3 / 2 {
             return Err(encode_error(
                 &self.path,
                 format!(
                     "frame {index} has {} bytes of YUV 4:2:0, not {} for {width}x{height}",
-                    self.i420.len(),
+                    i420.len(),
                     width * height * 3 / 2
                 ),
             ));
         }
-        let (luma, chroma) = self.i420.split_at(width * height);
+        let (luma, chroma) = i420.split_at(width * height);
         let (cb, cr) = chroma.split_at(luma.len() / 4);
         let source = YUVSlices::new(
             (luma, cb, cr),

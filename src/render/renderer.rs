@@ -39,6 +39,7 @@ use super::body_tile::{BodyTiles, TileInputs, body_rect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
 use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex};
+use super::layers::{Layers, record_layers};
 use super::look::Look;
 use super::pixel_rect::{Patch, PixelRect};
 use super::render_targets::WholeImageTargets;
@@ -693,69 +694,6 @@ fn warm_up_size(width: u32, height: u32) -> (u32, u32) {
     }
 }
 
-/// What one multisampled pass draws, from the renderer's filled buffers:
-/// the whole image ([`Renderer::render_multisampled`], the backdrops) or a
-/// 3D tile (`scene_tile`).
-pub(super) struct Layers<'a> {
-    pub resources: &'a GpuResources,
-    /// Whether the background is a gradient (a plain one is the clear colour).
-    pub background: bool,
-    pub surface_vertices: u32,
-    /// The first line instances, drawn behind the body (the 2D ground line).
-    pub ground_lines: u32,
-    /// All line instances, the ground lines included.
-    pub lines: u32,
-}
-
-/// Records `layers` into `pass`. 3D: the opaque layers nearest first, so
-/// that hidden samples are rejected before they are shaded (see
-/// `DepthTest`), then the edges. 2D: painted back to front.
-pub(super) fn record_layers(pass: &mut wgpu::RenderPass<'_>, layers: &Layers<'_>) {
-    let r = layers.resources;
-    pass.set_bind_group(0, &r.bind_group, &[]);
-    let draw_layer = |pass: &mut wgpu::RenderPass<'_>, pipeline, vertices| {
-        pass.set_pipeline(pipeline);
-        pass.draw(0..vertices, 0..1);
-    };
-    let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
-        if layers.surface_vertices > 0 {
-            pass.set_pipeline(&r.surface);
-            pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
-            pass.draw(0..layers.surface_vertices, 0..1);
-        }
-    };
-    let draw_lines = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
-        if !instances.is_empty() {
-            pass.set_pipeline(&r.line);
-            pass.set_vertex_buffer(0, r.line_instances.slice(..));
-            pass.draw(0..6, instances);
-        }
-    };
-    let background = layers.background.then_some(&r.background);
-    if r.depth {
-        draw_surface(pass);
-        if let Some(ground) = &r.ground {
-            draw_layer(pass, ground, 6);
-        }
-        if let Some(background) = background {
-            draw_layer(pass, background, 3);
-        }
-    } else {
-        if let Some(background) = background {
-            draw_layer(pass, background, 3);
-        }
-        if let Some(ground) = &r.ground {
-            draw_layer(pass, ground, 6);
-        }
-        draw_lines(pass, 0..layers.ground_lines);
-        draw_surface(pass);
-    }
-    draw_lines(
-        pass,
-        layers.ground_lines..layers.lines.max(layers.ground_lines),
-    );
-}
-
 /// What a 2D frame's tile is drawn with, from the buffers filled for it.
 fn tile_inputs<'a>(
     resources: &'a GpuResources,
@@ -770,97 +708,4 @@ fn tile_inputs<'a>(
         fringes: body.fringes.len() as u32,
         body_lines: look.ground_lines()..lines.len() as u32,
     }
-}
-
-/// Copies the top-left `size` pixels of `texture` into `buffer` (rows
-/// `padded_bytes_per_row` apart), maps it, waits, and hands each row's
-/// pixels, without the padding, to `row` with its index.
-pub(super) fn read_texture(
-    gpu: &Gpu,
-    texture: &wgpu::Texture,
-    buffer: &wgpu::Buffer,
-    padded_bytes_per_row: u32,
-    size: (u32, u32),
-    row: impl FnMut(u32, &[u8]),
-) -> Result<(), RenderError> {
-    let device = &gpu.device;
-    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("readback encoder"),
-    });
-    encode_texture_copy(&mut encoder, texture, buffer, padded_bytes_per_row, size);
-    gpu.queue.submit([encoder.finish()]);
-    check_scope(validation, "copying a frame")?;
-    read_buffer(gpu, buffer, padded_bytes_per_row, size, row)
-}
-
-/// Records the copy of the top-left `size` pixels of `texture` into
-/// `buffer`, rows `padded_bytes_per_row` apart.
-pub(super) fn encode_texture_copy(
-    encoder: &mut wgpu::CommandEncoder,
-    texture: &wgpu::Texture,
-    buffer: &wgpu::Buffer,
-    padded_bytes_per_row: u32,
-    (width, height): (u32, u32),
-) {
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded_bytes_per_row),
-                rows_per_image: Some(height),
-            },
-        },
-        wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-    );
-}
-
-/// Maps `buffer` once the copies submitted into it are done, and hands
-/// each of its `size.1` rows' pixels (`size.0` wide, without the padding
-/// to `padded_bytes_per_row`) to `row` with its index.
-pub(super) fn read_buffer(
-    gpu: &Gpu,
-    buffer: &wgpu::Buffer,
-    padded_bytes_per_row: u32,
-    (width, height): (u32, u32),
-    mut row: impl FnMut(u32, &[u8]),
-) -> Result<(), RenderError> {
-    let device = &gpu.device;
-    let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
-        let _ = sender.send(result);
-    });
-    wait(device, "reading a frame back")?;
-    receiver
-        .recv()
-        .map_err(|_| RenderError::Gpu {
-            during: "reading a frame back",
-            message: "the map callback never ran".into(),
-        })?
-        .map_err(|e| RenderError::Gpu {
-            during: "reading a frame back",
-            message: e.to_string(),
-        })?;
-    {
-        let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Gpu {
-            during: "reading a frame back",
-            message: e.to_string(),
-        })?;
-        let row_bytes = (width * 4) as usize;
-        for (index, padded) in mapped
-            .chunks_exact(padded_bytes_per_row as usize)
-            .take(height as usize)
-            .enumerate()
-        {
-            row(index as u32, &padded[..row_bytes]);
-        }
-    }
-    buffer.unmap();
-    Ok(())
 }

@@ -35,9 +35,9 @@ use super::RenderError;
 use super::body_tile::projected_rect;
 use super::gpu::Gpu;
 use super::gpu_resources::Globals;
+use super::layers::{Layers, record_layers};
 use super::pixel_rect::{Patch, PixelRect};
 use super::render_targets::RenderTargets;
-use super::renderer::{Layers, record_layers};
 use super::tile_slot::TileSlot;
 use nalgebra::Matrix4;
 

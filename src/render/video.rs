@@ -26,6 +26,7 @@ use image::RgbaImage;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// The file name a video format is written to: `video.png`, `video.mp4`, `video.gif`.
 pub fn file_name(format: VideoFormat) -> &'static str {
@@ -60,7 +61,7 @@ struct ApngWriter {
     path: PathBuf,
     writer: png::Writer<BufWriter<File>>,
     /// The previous frame, `None` before the first.
-    previous: Option<RgbaImage>,
+    previous: Option<Arc<RgbaImage>>,
     rgb: Vec<u8>,
 }
 
@@ -122,7 +123,7 @@ impl VideoWriter for ApngWriter {
     /// The first frame is stored whole; each later one as the rectangle
     /// where it differs from the one before, drawn over it (dispose `None`,
     /// blend `Source`), so a small moving body costs a small frame.
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let encode_error = |e: png::EncodingError| png_error(&self.path, e);
         let region = match &self.previous {
             Some(previous) => changed_rect(previous, frame),
@@ -149,10 +150,7 @@ impl VideoWriter for ApngWriter {
         self.writer
             .write_image_data(&self.rgb)
             .map_err(|e| png_error(&self.path, e))?;
-        match &mut self.previous {
-            Some(previous) => previous.copy_from_slice(frame),
-            None => self.previous = Some(frame.clone()),
-        }
+        self.previous = Some(frame.clone());
         Ok(())
     }
 
@@ -208,7 +206,7 @@ impl GifWriter {
 }
 
 impl VideoWriter for GifWriter {
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let index = self.pushed;
         self.pushed += 1;
         if !index.is_multiple_of(self.stride) {
@@ -272,7 +270,7 @@ mod tests {
         let partial = PartialFile::new(&path).unwrap();
         let mut writer = open(VideoFormat::Apng, &spec, &partial).unwrap();
         for frame in frames {
-            writer.push(frame).unwrap();
+            writer.push(&Arc::new(frame.clone())).unwrap();
         }
         writer.finish().unwrap();
         partial.publish().unwrap();

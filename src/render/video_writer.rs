@@ -4,6 +4,7 @@
 use super::RenderError;
 use image::RgbaImage;
 use std::path::Path;
+use std::sync::Arc;
 
 /// What every video writer needs to know.
 pub(crate) struct VideoSpec<'a> {
@@ -24,7 +25,7 @@ pub(crate) struct VideoSpec<'a> {
 /// A video being written.
 pub(crate) trait VideoWriter: Send {
     /// Appends the next frame.
-    fn push(&mut self, frame: &RgbaImage) -> Result<(), RenderError>;
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError>;
     /// Completes the temporary file.
     fn finish(self: Box<Self>) -> Result<(), RenderError>;
 }
