@@ -31,19 +31,14 @@ pub(crate) fn push_rgb(rgba: &[u8], rgb: &mut Vec<u8>) {
     }
 }
 
-/// The hidden temporary name a file is written under before it is complete.
+/// The hidden temporary name a file is written under before it is
+/// complete: its hidden sibling `.NAME.partial`.
 pub(crate) fn temporary_path(path: &Path) -> PathBuf {
-    hidden_path(path, "partial")
-}
-
-/// `path`'s hidden sibling `.NAME.suffix`: where a file of the run is
-/// written until complete (`partial`), or waits to be reused (`spare`).
-pub(crate) fn hidden_path(path: &Path, suffix: &str) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{suffix}"))
+    path.with_file_name(format!(".{name}.partial"))
 }
 
 /// A PNG encoder's error, naming the file being written.
