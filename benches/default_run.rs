@@ -15,8 +15,7 @@
 //! made): the process's CPU time over the wall time of that stretch, the
 //! median over the runs.
 //!
-//! Two more variants run the APNG with one device drawing every frame
-//! (`ELASTO_RENDER_DEVICES=1`, llvmpipe with its own threads), and with
+//! One more variant runs the APNG with
 //! Mesa's shader cache off (`MESA_SHADER_CACHE_DISABLE=true`): what the
 //! first run on a new machine costs, when llvmpipe compiles every shader
 //! (it keeps them in `~/.cache/mesa_shader_cache` for the runs after).
@@ -38,16 +37,11 @@ fn main() {
         .unwrap_or(7)
         .max(1);
     let out = tempfile::tempdir().expect("a temporary folder");
-    let variants: [Variant; 6] = [
+    let variants: [Variant; 5] = [
         ("--no-render", &["--no-render"], &[]),
         ("--video apng", &["--video", "apng"], &[]),
         ("--video none (PNG frames only)", &["--video", "none"], &[]),
         ("default videos", &[], &[]),
-        (
-            "--video apng, one device",
-            &["--video", "apng"],
-            &[("ELASTO_RENDER_DEVICES", "1")],
-        ),
         (
             "--video apng, no shader cache",
             &["--video", "apng"],

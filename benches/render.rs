@@ -8,7 +8,7 @@ use elasto::math::{Vector, Vector2, Vector3};
 use elasto::mesh::Mesh;
 use elasto::render::{
     Colouring, FrameTimings, RenderFrame, RenderMesh, RenderSettings, Renderer,
-    adapter_description, write_frame_png,
+    adapter_description, write_png,
 };
 use std::time::{Duration, Instant};
 
@@ -83,7 +83,7 @@ fn main() {
                 timings.push(timing);
                 let path = output.path().join(format!("frame_{i:04}.png"));
                 let start = Instant::now();
-                write_frame_png(&path, &image).expect("write png");
+                write_png(&path, &image).expect("write png");
                 encode.push(start.elapsed());
             }
             let draw = median(timings.iter().map(|t| t.draw));

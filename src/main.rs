@@ -12,16 +12,6 @@ fn main() {
         // SAFETY: no other thread exists yet.
         unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
-    if std::env::var_os("LP_NUM_THREADS").is_none()
-        && let Some(threads) = elasto::render::llvmpipe_threads()
-    {
-        // Mesa's llvmpipe reads this when it opens a device: each of the
-        // two devices that draw frames side by side rasterises on fewer
-        // threads (see `render::llvmpipe_threads`). An explicit setting
-        // wins; a GPU ignores it.
-        // SAFETY: no other thread exists yet.
-        unsafe { std::env::set_var("LP_NUM_THREADS", threads.to_string()) };
-    }
     #[cfg(unix)]
     exit_on_interrupt();
     let cli = parse_command_line();

@@ -33,7 +33,7 @@ pub enum AppError {
     /// An environment variable elasto reads has a value it cannot take.
     #[error("`{variable}`: {reason}")]
     Environment {
-        /// The variable and its value, e.g. `ELASTO_RENDER_DEVICES=3`.
+        /// The variable and its value, e.g. `ELASTO_THREADS=0`.
         variable: String,
         /// What is wrong.
         reason: String,

@@ -10,17 +10,14 @@
 //! its frames are drawn after it exactly as they would have been while it
 //! ran (`tests/integration/render_streaming.rs` checks both give the same files).
 //!
-//! The renderers' devices, pipelines and buffers need no frame: they are
+//! The renderer's device, pipelines and buffers need no frame: they are
 //! made on a thread of their own from the moment the stage is made
-//! ([`PreparingRenderers`]), the shared device's first and then, without a
-//! GPU, a second software device's (see `render::drawers`). For a deferred
-//! run the run's first frame (the initial state, there before the first
-//! step) is then drawn with each and thrown away
-//! ([`crate::render::PreparedRenderer::warmed_up`]), so that while the
-//! simulation runs, a core it does not use builds them and llvmpipe
-//! compiles their shaders (about 0.2 s for the default scene), and the
-//! first image follows the last step without that wait. The frames start
-//! as soon as the first device is ready; the second joins when it is.
+//! ([`PreparingRenderer`]). For a deferred run the run's first frame (the
+//! initial state, there before the first step) is then drawn with it and
+//! thrown away ([`crate::render::PreparedRenderer::warmed_up`]), so that
+//! while the simulation runs, a core it does not use builds them and
+//! llvmpipe compiles their shaders (about 0.2 s for the default scene), and
+//! the first image follows the last step without that wait.
 //!
 //! The stage hands out, in frame order, the cost of every frame completely
 //! written ([`FrameCost`]), for `stats.csv` and `--profile`.
@@ -28,8 +25,8 @@
 use super::process_clock::{Span, Stopwatch};
 use super::progress::{Progress, ProgressMode};
 use crate::render::{
-    FrameCost, PreparedRenderers, PreparingRenderers, RenderError, RenderFrame, RenderMesh,
-    RenderOutputs, RenderSettings, SequenceWriter,
+    FrameCost, PreparedRenderer, PreparingRenderer, RenderError, RenderFrame, RenderMesh,
+    RenderOutputs, RenderSettings, Renderer, SequenceWriter,
 };
 use std::sync::mpsc::{self, Sender};
 
@@ -44,8 +41,8 @@ pub struct RenderStage {
     /// dropped first: the preparing thread, which dropping `preparing`
     /// waits for, may be waiting for that frame.
     warm_up_frame: Option<Sender<RenderFrame>>,
-    /// The renderers being prepared, until the first frame is drawn.
-    preparing: Option<PreparingRenderers>,
+    /// The renderer being prepared, until the first frame is drawn.
+    preparing: Option<PreparingRenderer>,
     pending: Pending,
 }
 
@@ -80,9 +77,9 @@ impl RenderStage {
             }
             Pending::Streaming(_) => (None, None),
         };
-        // Without a first frame (the run ended before it) the renderers
-        // are not needed warm.
-        let preparing = PreparingRenderers::start(&settings, &mesh, first_frame);
+        // Without a first frame (the run ended before it) the renderer
+        // is not needed warm.
+        let preparing = PreparingRenderer::start(&settings, &mesh, first_frame);
         Self {
             settings,
             mesh,
@@ -94,16 +91,15 @@ impl RenderStage {
         }
     }
 
-    /// The renderers prepared on their thread (waiting for the first if
-    /// need be).
+    /// The renderer prepared on its thread (waiting for it if need be).
     fn prepared(
-        preparing: &mut Option<PreparingRenderers>,
+        preparing: &mut Option<PreparingRenderer>,
         settings: &RenderSettings,
         mesh: &RenderMesh,
-    ) -> Result<PreparedRenderers, RenderError> {
+    ) -> Result<PreparedRenderer, RenderError> {
         match preparing.take() {
             Some(preparing) => preparing.wait(),
-            None => PreparedRenderers::prepare(settings, mesh),
+            None => Renderer::prepare(settings, mesh),
         }
     }
 

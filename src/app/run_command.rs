@@ -25,8 +25,8 @@ use crate::output::{
     SurfaceSeriesWriter,
 };
 use crate::render::{
-    FrameCost, RENDER_DEVICES_VARIABLE, RenderFrame, RenderMesh, RenderOutputs, VideoFormat,
-    check_video_support, device_limit, video_file_name,
+    FrameCost, RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support,
+    video_file_name,
 };
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
 use crate::sim::FrameStats;
@@ -44,7 +44,6 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
     let videos = if args.no_render {
         Vec::new()
     } else {
-        check_render_devices()?;
         let videos = videos(args.video);
         let size = scene.render();
         check_video_support(&videos, size.width, size.height).map_err(|source| {
@@ -94,21 +93,6 @@ struct Plan {
     progress: ProgressMode,
     /// `--profile`: when the run started, and its CPU time then.
     profile: Option<Stopwatch>,
-}
-
-/// `ELASTO_RENDER_DEVICES`, when set, is 1 or 2.
-pub(super) fn check_render_devices() -> Result<(), AppError> {
-    device_limit()
-        .map(|_| ())
-        .map_err(|reason| AppError::Environment {
-            variable: format!(
-                "{RENDER_DEVICES_VARIABLE}={}",
-                std::env::var_os(RENDER_DEVICES_VARIABLE)
-                    .unwrap_or_default()
-                    .to_string_lossy()
-            ),
-            reason,
-        })
 }
 
 /// The videos to write: `auto` is APNG and MP4.
@@ -174,8 +158,7 @@ fn run_scene<const D: usize>(
     // 2. The output folder: refused (untouched) when it holds anything, unless
     //    --force; even then links and things in the way of the outputs are.
     let out = OutputDir::check(&plan.out, plan.force, &plan.writes())?;
-    // The earlier run's frames wait as spares until this run ends.
-    let _spare_frames = out.prepare()?;
+    out.prepare()?;
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
     let stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
     let mut log = FrameLog::new(stats, plan.render, plan.profile.is_some());

@@ -14,8 +14,7 @@
 //! of its part from the first frame sent to be drawn to the last written
 //! (after the camera is framed and the backdrop and base are drawn), come
 //! with the cores busy on average over each: the process's CPU time over
-//! the wall time (see `process_clock`), out of the machine's cores. A last
-//! row says how many frames each device drew (see `render::drawers`).
+//! the wall time (see `process_clock`), out of the machine's cores.
 
 use super::process_clock::Span;
 use crate::render::FrameCost;
@@ -46,8 +45,6 @@ pub struct RunProfile {
     /// assembly and line search) and CCD (part of the line search).
     contact: Vec<[Duration; 2]>,
     rendered: Vec<[Duration; PHASES.len() - SIMULATION_PHASES]>,
-    /// Frames drawn by each device.
-    per_device: Vec<usize>,
 }
 
 /// The stretches of a run the table ends with.
@@ -90,10 +87,6 @@ impl RunProfile {
             cost.png,
             cost.video,
         ]);
-        if self.per_device.len() <= cost.drawer {
-            self.per_device.resize(cost.drawer + 1, 0);
-        }
-        self.per_device[cost.drawer] += 1;
     }
 
     /// The table, ending with the run's wall time and, when the frames were
@@ -141,15 +134,6 @@ impl RunProfile {
                 values.len(),
                 median(&values).as_secs_f64() * 1e3,
                 total.as_secs_f64()
-            );
-        }
-        if !self.per_device.is_empty() {
-            let counts: Vec<String> = self.per_device.iter().map(usize::to_string).collect();
-            let _ = writeln!(
-                text,
-                "{:<22} {:>8}",
-                "frames per device",
-                counts.join(" + ")
             );
         }
         let rows = [
@@ -234,7 +218,6 @@ mod tests {
                 },
                 png: ms(3),
                 video: ms(5),
-                drawer: usize::from(draw > 20),
             });
         }
         let table = profile.table(&spans(span(1500, None), None, None), 2);
@@ -247,8 +230,6 @@ mod tests {
         assert_eq!(row(&table, "draw"), ["4", "30.000", "0.100"]);
         assert_eq!(row(&table, "video encode + write"), ["4", "5.000", "0.020"]);
         assert_eq!(row(&table, "wall time of the run"), ["1.500"]);
-        // Frames drawn by each device: 10 and 20 ms on the first, 30 and 40 on the second.
-        assert_eq!(row(&table, "frames per device"), ["2", "+", "2"]);
         // No contact: no contact rows.
         assert!(!table.contains("contact"));
         profile.simulated(&PhaseTimes::default(), ms(5), Some([ms(2), ms(1)]));
@@ -267,7 +248,6 @@ mod tests {
         let table = profile.table(&spans(span(2, None), None, None), 2);
         assert_eq!(row(&table, "other simulation"), ["1", "2.000", "0.002"]);
         assert!(!table.contains("draw"), "{table}");
-        assert!(!table.contains("device"), "{table}");
     }
 
     #[test]

@@ -17,7 +17,7 @@ use super::AppError;
 use super::cli::{SweepArgs, VideoChoice};
 use super::process_clock::cores;
 use super::progress::ProgressMode;
-use super::run_command::{check_render_devices, videos};
+use super::run_command::videos;
 use super::{scene_overrides, shortcut_overrides};
 use crate::render::VideoFormat;
 use crate::scene::{Scene, SceneSource};
@@ -165,7 +165,6 @@ impl SweepPlan {
         let flags = shortcut_overrides(args.frames, args.resolution)?;
         let render = !args.no_render;
         let videos = if render {
-            check_render_devices()?;
             videos(args.video)
         } else {
             Vec::new()

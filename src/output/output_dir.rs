@@ -1,7 +1,7 @@
 //! The run's output folder: refused when it holds anything unless forced.
 
 use super::OutputError;
-use crate::render::{SpareFiles, keep_as_spare, write_whole_file};
+use crate::render::write_whole_file;
 use std::path::{Path, PathBuf};
 
 /// Names of the files and folders a run writes at the top of its folder.
@@ -50,8 +50,8 @@ fn ours_inside(name: &str) -> bool {
 }
 
 /// The name a spare file stands for (`.frame_0042.png.spare`: the frame
-/// `frame_0042.png` of an earlier run, waiting to be reused; see
-/// [`keep_as_spare`]).
+/// `frame_0042.png` hidden by an earlier version of elasto for reuse, left
+/// by a killed run; removed like the frames).
 fn spare_of(name: &str) -> Option<&str> {
     name.strip_prefix('.')?.strip_suffix(".spare")
 }
@@ -91,26 +91,17 @@ impl OutputDir {
     /// `surfaces/surface_*.obj|ply`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
     /// [`OutputDir::check`] has made sure that none of these is a link.
-    ///
-    /// The earlier frames are hidden as spares rather than removed, for this
-    /// run's frames to reuse their inodes (`render::keep_as_spare`); the returned
-    /// guard removes those left over when it is dropped, at the end of the
-    /// run.
-    pub fn prepare(&self) -> Result<SpareFiles, OutputError> {
+    pub fn prepare(&self) -> Result<(), OutputError> {
         std::fs::create_dir_all(&self.path)
             .map_err(OutputError::io("create folder", &self.path))?;
         for name in OWNED_FILES {
             remove_if_file(&self.path.join(name))?;
         }
-        let spares = SpareFiles::under(&self.path);
-        let frames = self.path.join("frames");
         for folder in OWNED_FOLDERS {
             let folder = self.path.join(folder);
             if !folder.is_dir() {
                 continue;
             }
-            // Listed before anything is renamed, so that a spare made here
-            // is not listed again.
             let entries = std::fs::read_dir(&folder)
                 .and_then(|entries| entries.collect::<Result<Vec<_>, _>>())
                 .map_err(OutputError::io("read folder", &folder))?;
@@ -119,15 +110,10 @@ impl OutputDir {
                 if !ours_inside(&name) || name.ends_with(".partial") {
                     continue;
                 }
-                let path = entry.path();
-                if folder == frames && path.is_file() {
-                    keep_as_spare(&path).map_err(OutputError::io("replace", &path))?;
-                } else {
-                    remove_if_file(&path)?;
-                }
+                remove_if_file(&entry.path())?;
             }
         }
-        Ok(spares)
+        Ok(())
     }
 
     /// The folder.
@@ -245,11 +231,7 @@ mod tests {
         assert!(err.to_string().contains(&tmp.path().display().to_string()));
 
         let dir = OutputDir::check(tmp.path(), true, &["frames"]).unwrap();
-        let spares = dir.prepare().unwrap();
-        // The earlier frame waits, hidden, for this run to reuse its file.
-        assert!(tmp.path().join("frames/.frame_0009.png.spare").is_file());
-        drop(spares);
-        assert!(!tmp.path().join("frames/.frame_0009.png.spare").exists());
+        dir.prepare().unwrap();
         assert_eq!(
             std::fs::read_to_string(tmp.path().join("notes.txt")).unwrap(),
             "mine"
@@ -323,12 +305,10 @@ mod tests {
         let out = tmp.path().join("mine");
         std::fs::create_dir(&out).unwrap();
         std::os::unix::fs::symlink(&elsewhere, out.join("notes")).unwrap();
-        drop(
-            OutputDir::check(&out, true, &["frames"])
-                .unwrap()
-                .prepare()
-                .unwrap(),
-        );
+        OutputDir::check(&out, true, &["frames"])
+            .unwrap()
+            .prepare()
+            .unwrap();
         assert!(elsewhere.join("frame_0042.png").exists());
     }
 

@@ -11,7 +11,7 @@
 //! `Wc × Hc ≥ |R|` (grown as needed, by 64 pixels), with one sample per
 //! pixel (`body_coverage` anti-aliases in the shaders), and reads back only
 //! that: the frame is the backdrop with the tile as its patch
-//! (`frame_image`).
+//! (`renderer`).
 //!
 //! The tile shows the same pixels as the whole image: a whole-image clip
 //! position `c` (pixel `p = ((c_x / c_w + 1) W / 2, (1 − c_y / c_w) H / 2)`
@@ -35,10 +35,12 @@
 //! vertex and every edge line's square caps with a margin of two pixels.
 
 use super::RenderError;
-use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope};
 use super::gpu_resources::{COLOR_FORMAT, Globals, GpuResources};
+use super::pixel_rect::{Patch, PixelRect};
 use super::tile_slot::TileSlot;
+#[cfg(test)]
+use super::tile_slot::tile_transform;
 use nalgebra::{Matrix4, Vector4};
 
 /// Pixels around the body's vertices and edge lines' caps that the tile
@@ -98,27 +100,6 @@ pub(super) fn projected_rect(
     let (x0, x1) = (clamp(lo[0].floor(), width), clamp(hi[0].ceil(), width));
     let (y0, y1) = (clamp(lo[1].floor(), height), clamp(hi[1].ceil(), height));
     (x1 > x0 && y1 > y0).then_some(PixelRect::new(x0, y0, x1 - x0, y1 - y0))
-}
-
-/// `tile` and `tile_origin` of the uniforms for drawing `rect` of a
-/// `width × height` image into a target of `capacity` pixels (see the module
-/// documentation).
-pub(super) fn tile_transform(
-    rect: PixelRect,
-    capacity: (u32, u32),
-    width: u32,
-    height: u32,
-) -> ([f32; 4], [f32; 4]) {
-    let (w, h) = (f64::from(width), f64::from(height));
-    let (wc, hc) = (f64::from(capacity.0), f64::from(capacity.1));
-    let (x0, y0) = (f64::from(rect.x), f64::from(rect.y));
-    let tile = [
-        w / wc,
-        h / hc,
-        (w - 2.0 * x0) / wc - 1.0,
-        1.0 - (h - 2.0 * y0) / hc,
-    ];
-    (tile.map(|c| c as f32), [x0 as f32, y0 as f32, 0.0, 0.0])
 }
 
 /// The tile target, one sample per pixel.

@@ -1,8 +1,8 @@
 //! Output files of a run: frame names, PNG images written atomically, and the
 //! check that the requested videos can be written at the run's image size.
 
-use super::frame_image::FrameImage;
-use super::frame_png::FramePngWriter;
+use super::image_file::{png_encoder, png_error, push_rgb};
+use super::partial_file::PartialFile;
 use super::{RenderError, VideoFormat, mp4_writer, video};
 use image::RgbaImage;
 use std::path::Path;
@@ -36,17 +36,22 @@ pub fn frame_file_name(index: usize, frame_count: usize) -> String {
 }
 
 /// Writes an opaque RGBA image as an RGB PNG with fast compression and an
-/// sRGB chunk, as the frames of a run are written: under a hidden temporary
-/// name first, renamed to `path` once complete.
+/// sRGB chunk, as the frames of a run are written: encoded in memory, then
+/// written under a hidden temporary name and renamed to `path` once complete.
 pub fn write_png(path: &Path, image: &RgbaImage) -> Result<(), RenderError> {
-    write_frame_png(path, &FrameImage::from(image.clone()))
-}
-
-/// [`write_png`] for a rendered frame, as a run writes it: a 2D frame over
-/// its run's base compresses only the rows its patch crosses (the base's
-/// rows are compressed once, by the first frame written).
-pub fn write_frame_png(path: &Path, frame: &FrameImage) -> Result<(), RenderError> {
-    FramePngWriter::default().write(path, frame)
+    let encode_error = |e: png::EncodingError| png_error(path, e);
+    let mut rgb = Vec::with_capacity(image.as_raw().len() / 4 * 3);
+    push_rgb(image.as_raw(), &mut rgb);
+    let mut file = Vec::new();
+    let mut writer = png_encoder(&mut file, image.width(), image.height())
+        .write_header()
+        .map_err(encode_error)?;
+    writer.write_image_data(&rgb).map_err(encode_error)?;
+    writer.finish().map_err(encode_error)?;
+    // Dropped on an error, the partial file removes itself.
+    let partial = PartialFile::new(path)?;
+    partial.write_whole(&file)?;
+    partial.publish()
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 //! [`Yuv420Frames`]: frames as the YUV 4:2:0 planes the MP4's encoder
-//! takes, converted in proportion to what changed.
+//! takes.
 //!
 //! H.264 video is stored as luma `Y` at every pixel and the chroma `Cb`,
 //! `Cr` at one sample per 2x2 block. The frames are 8-bit sRGB; with
@@ -17,32 +17,13 @@
 //! invert exactly this). 4:2:0 needs even dimensions: an odd width or height
 //! is padded on the right or at the bottom with the background colour.
 //!
-//! A frame over its run's base ([`FrameImage`]) differs from the base only
-//! in the rows its patch crosses, and a 2x2 block depends on its own two
-//! rows only. So the base's planes are converted once per run, and a frame
-//! converts only the band of rows `[y0 − y0 mod 2, y1 + y1 mod 2)` around
-//! its patch's rows `[y0, y1)`: its planes are the base's rows above the
-//! band, the band, the base's rows below, for `Y`, then `Cb`, then `Cr`.
-//! The MP4 writer joins those pieces into the one I420 buffer the H.264
-//! encoder takes.
-
-use super::frame_image::{FrameBase, FrameImage};
-use std::ops::Range;
-use std::sync::Arc;
+use image::RgbaImage;
 use yuv::{BufferStoreMut, YuvConversionMode, YuvPlanarImageMut, YuvRange, YuvStandardMatrix};
 
 /// The size of the planes of frames of `size` pixels: rounded up to even
 /// numbers.
 pub(crate) fn padded_size((width, height): (u32, u32)) -> (u32, u32) {
     (width.next_multiple_of(2), height.next_multiple_of(2))
-}
-
-/// The Y, Cb and Cr planes of a band of rows of the padded width.
-#[derive(Default)]
-struct Planes {
-    y: Vec<u8>,
-    cb: Vec<u8>,
-    cr: Vec<u8>,
 }
 
 /// Converts the frames of one run (see the module documentation).
@@ -53,12 +34,10 @@ pub(crate) struct Yuv420Frames {
     padded: (u32, u32),
     /// The colour of the padding, sRGB.
     background: [u8; 3],
-    /// The base of the latest frame over one, and its planes.
-    base: Option<(Arc<FrameBase>, Planes)>,
-    /// The padded RGBA rows being converted.
+    /// The padded RGBA rows, for odd sizes.
     rgba: Vec<u8>,
-    /// The latest frame's band (or whole planes).
-    band: Planes,
+    /// The latest frame's planes, `Y`, `Cb`, `Cr` one after the other.
+    planes: Vec<u8>,
 }
 
 impl Yuv420Frames {
@@ -68,107 +47,68 @@ impl Yuv420Frames {
             size,
             padded: padded_size(size),
             background,
-            base: None,
             rgba: Vec::new(),
-            band: Planes::default(),
+            planes: Vec::new(),
         }
     }
 
-    /// Hands `frame`'s planes, `Y` then `Cb` then `Cr`, each row-major with
-    /// no padding between rows, to `span` as a few contiguous pieces.
-    pub fn for_each_span(&mut self, frame: &FrameImage, mut span: impl FnMut(&[u8])) {
+    /// `frame`'s planes, `Y` then `Cb` then `Cr`, each row-major with no
+    /// padding between rows (the I420 layout).
+    pub fn convert(&mut self, frame: &RgbaImage) -> &[u8] {
         debug_assert_eq!(frame.dimensions(), self.size);
-        let Some((base, changed)) = frame.over_base() else {
-            self.convert(frame, 0..self.padded.1, None);
-            for plane in [&self.band.y, &self.band.cb, &self.band.cr] {
-                span(plane);
+        let rgba: &[u8] = if self.padded == self.size {
+            frame.as_raw()
+        } else {
+            let [r, g, b] = self.background;
+            let pad = [r, g, b, 255];
+            self.rgba.clear();
+            for row in frame.as_raw().chunks_exact(self.size.0 as usize * 4) {
+                self.rgba.extend_from_slice(row);
+                if self.padded.0 > self.size.0 {
+                    self.rgba.extend_from_slice(&pad);
+                }
             }
-            return;
-        };
-        if !matches!(&self.base, Some((held, _)) if Arc::ptr_eq(held, base)) {
-            let mut planes = Planes::default();
-            let whole_base = FrameImage::patched(base.clone(), None);
-            self.convert(&whole_base, 0..self.padded.1, Some(&mut planes));
-            self.base = Some((base.clone(), planes));
-        }
-        let (_, planes) = self.base.as_ref().expect("held above");
-        let Some(changed) = changed else {
-            for plane in [&planes.y, &planes.cb, &planes.cr] {
-                span(plane);
-            }
-            return;
-        };
-        let band = changed.y & !1..(changed.y + changed.height).next_multiple_of(2);
-        self.convert(frame, band.clone(), None);
-        let (_, planes) = self.base.as_ref().expect("held above");
-        let (width, chroma_width) = (self.padded.0 as usize, self.padded.0 as usize / 2);
-        let (top, bottom) = (band.start as usize, band.end as usize);
-        span(&planes.y[..top * width]);
-        span(&self.band.y);
-        span(&planes.y[bottom * width..]);
-        for (whole, band) in [(&planes.cb, &self.band.cb), (&planes.cr, &self.band.cr)] {
-            span(&whole[..top / 2 * chroma_width]);
-            span(band);
-            span(&whole[bottom / 2 * chroma_width..]);
-        }
-    }
-
-    /// Converts the padded rows `rows` (an even start and end) of `frame`
-    /// into `planes`, or into the band's when `None`.
-    fn convert(&mut self, frame: &FrameImage, rows: Range<u32>, planes: Option<&mut Planes>) {
-        let [r, g, b] = self.background;
-        let pad = [r, g, b, 255];
-        self.rgba.clear();
-        for y in rows.clone() {
-            if y < self.size.1 {
-                frame.push_rgba_row(y, &mut self.rgba);
-            } else {
+            if self.padded.1 > self.size.1 {
                 self.rgba
-                    .extend(std::iter::repeat_n(pad, self.size.0 as usize).flatten());
+                    .extend(std::iter::repeat_n(pad, self.padded.0 as usize).flatten());
             }
-            if self.padded.0 > self.size.0 {
-                self.rgba.extend_from_slice(&pad);
-            }
-        }
-        let planes = planes.unwrap_or(&mut self.band);
-        let (width, height) = (self.padded.0, rows.len() as u32);
+            &self.rgba
+        };
+        let (width, height) = self.padded;
         let luma = (width * height) as usize;
-        planes.y.resize(luma, 0);
-        planes.cb.resize(luma / 4, 0);
-        planes.cr.resize(luma / 4, 0);
+        self.planes.resize(luma * 3 / 2, 0);
+        let (y, chroma) = self.planes.split_at_mut(luma);
+        let (cb, cr) = chroma.split_at_mut(luma / 4);
         let mut image = YuvPlanarImageMut {
-            y_plane: BufferStoreMut::Borrowed(&mut planes.y),
+            y_plane: BufferStoreMut::Borrowed(y),
             y_stride: width,
-            u_plane: BufferStoreMut::Borrowed(&mut planes.cb),
+            u_plane: BufferStoreMut::Borrowed(cb),
             u_stride: width / 2,
-            v_plane: BufferStoreMut::Borrowed(&mut planes.cr),
+            v_plane: BufferStoreMut::Borrowed(cr),
             v_stride: width / 2,
             width,
             height,
         };
         yuv::rgba_to_yuv420(
             &mut image,
-            &self.rgba,
+            rgba,
             width * 4,
             YuvRange::Limited,
             YuvStandardMatrix::Bt709,
             YuvConversionMode::Balanced,
         )
         .expect("the planes and rows are sized for the padded image");
+        &self.planes
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::frame_image::{Patch, PixelRect, noise};
-    use image::RgbaImage;
 
     /// All of `frame`'s planes, joined.
-    fn planes_of(frames: &mut Yuv420Frames, frame: &FrameImage) -> Vec<u8> {
-        let mut planes = Vec::new();
-        frames.for_each_span(frame, |span| planes.extend_from_slice(span));
-        planes
+    fn planes_of(frames: &mut Yuv420Frames, frame: &RgbaImage) -> Vec<u8> {
+        frames.convert(frame).to_vec()
     }
 
     #[test]
@@ -184,7 +124,7 @@ mod tests {
             let [r, g, b] = rgb;
             let image = RgbaImage::from_pixel(2, 2, image::Rgba([r, g, b, 255]));
             let mut frames = Yuv420Frames::new((2, 2), [0, 0, 0]);
-            let planes = planes_of(&mut frames, &FrameImage::from(image));
+            let planes = planes_of(&mut frames, &image);
             assert_eq!(planes.len(), 4 + 1 + 1);
             let got = [planes[0], planes[4], planes[5]];
             for (g, e) in got.iter().zip(expected) {
@@ -202,35 +142,10 @@ mod tests {
         let image = RgbaImage::from_pixel(3, 3, image::Rgba([255, 255, 255, 255]));
         let mut frames = Yuv420Frames::new((3, 3), [0, 0, 0]);
         assert_eq!(padded_size((3, 3)), (4, 4));
-        let planes = planes_of(&mut frames, &FrameImage::from(image));
+        let planes = planes_of(&mut frames, &image);
         assert_eq!(planes.len(), 16 + 4 + 4);
         let luma = |x: usize, y: usize| planes[y * 4 + x];
         assert_eq!((luma(0, 0), luma(2, 2)), (235, 235));
         assert_eq!((luma(3, 0), luma(0, 3), luma(3, 3)), (16, 16, 16));
-    }
-
-    #[test]
-    fn a_patched_frame_has_the_planes_of_its_whole_image() {
-        // Odd sizes and patches on odd and even rows: the band rounds out to
-        // whole 2x2 blocks and the padding stays the background.
-        let (width, height) = (37, 29);
-        let base = FrameBase::new(noise(width, height, 1));
-        let mut frames = Yuv420Frames::new((width, height), [10, 20, 30]);
-        let mut whole = Yuv420Frames::new((width, height), [10, 20, 30]);
-        let rects = [
-            PixelRect::new(3, 5, 10, 7),
-            PixelRect::new(0, 0, 37, 2),
-            PixelRect::new(20, 28, 17, 1),
-            PixelRect::new(1, 10, 1, 1),
-        ];
-        for (seed, rect) in rects.into_iter().enumerate() {
-            let patch = Patch::cut(&noise(width, height, 2 + seed as u32), rect);
-            let frame = FrameImage::patched(base.clone(), Some(patch));
-            let expected = planes_of(&mut whole, &FrameImage::from(frame.to_rgba()));
-            assert!(planes_of(&mut frames, &frame) == expected, "{rect:?}");
-        }
-        // The base itself, after the patched frames.
-        let expected = planes_of(&mut whole, &FrameImage::from(base.image().clone()));
-        assert!(planes_of(&mut frames, &FrameImage::patched(base, None)) == expected);
     }
 }

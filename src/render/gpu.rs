@@ -11,17 +11,10 @@
 //! WebGL2-level downlevel limits with the adapter's own texture size limits,
 //! each clamped to what the adapter has.
 //!
-//! When that device is Mesa's llvmpipe through GL, [`second_gpu`] opens a
-//! second one with a rasteriser of its own (see `egl_gpu`), so that two
-//! frames are drawn at once (see `drawers`); it is made with the same
-//! limits and sample count, and wgpu does not make its context current:
-//! every call into it goes inside [`Gpu::enter`].
-//!
 //! [`wait`] and [`check_scope`] turn the device's waits and error scopes
 //! into [`RenderError::Gpu`] naming what the renderer was doing.
 
 use super::RenderError;
-use super::egl_gpu::{CurrentContext, EglContext};
 use std::sync::{Arc, Mutex};
 
 /// An open device with its queue and what callers may want to print about it.
@@ -36,25 +29,6 @@ pub(crate) struct Gpu {
     pub max_texture_side: u32,
     /// MSAA sample count used for colour and depth (4 when supported, else 1).
     pub sample_count: u32,
-    /// The context of a device wgpu does not make current itself (see
-    /// `egl_gpu`): every call into it goes inside [`Gpu::enter`].
-    external_context: Option<EglContext>,
-    /// Whether the adapter is a software rasteriser through GL.
-    is_software_gl: bool,
-}
-
-impl Gpu {
-    /// Makes the device's context current on this thread while the guard
-    /// lives, for a device whose context wgpu does not manage; nothing
-    /// otherwise.
-    pub fn enter(&self) -> Option<CurrentContext<'_>> {
-        self.external_context.as_ref().map(EglContext::enter)
-    }
-
-    /// Whether it is a software rasteriser through GL (Mesa's llvmpipe).
-    pub fn is_software_gl(&self) -> bool {
-        self.is_software_gl
-    }
 }
 
 static SHARED: Mutex<Option<Arc<Gpu>>> = Mutex::new(None);
@@ -84,56 +58,6 @@ pub fn adapter_description() -> Result<String, RenderError> {
 pub fn max_image_size() -> Result<(u32, u64), RenderError> {
     let gpu = shared_gpu()?;
     Ok((gpu.max_texture_side, gpu.device.limits().max_buffer_size))
-}
-
-static SECOND: Mutex<Option<Option<Arc<Gpu>>>> = Mutex::new(None);
-
-/// A second device with a rasteriser of its own (see `egl_gpu`), opened on
-/// first use, when the shared device is Mesa's llvmpipe through GL: `None`
-/// otherwise, or when there is no such device to open.
-pub(crate) fn second_gpu() -> Result<Option<Arc<Gpu>>, RenderError> {
-    let shared = shared_gpu()?;
-    let mut second = SECOND
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
-    if let Some(gpu) = second.as_ref() {
-        return Ok(gpu.clone());
-    }
-    let gpu = if shared.is_software_gl() {
-        pollster::block_on(open_software_device())?.map(Arc::new)
-    } else {
-        None
-    };
-    *second = Some(gpu.clone());
-    Ok(gpu)
-}
-
-async fn open_software_device() -> Result<Option<Gpu>, RenderError> {
-    let Some(context) = EglContext::open_software_device()? else {
-        return Ok(None);
-    };
-    let current = context.enter();
-    context.enable_srgb_writes();
-    let options = wgpu::InstanceDescriptor::new_without_display_handle()
-        .with_env()
-        .backend_options
-        .gl;
-    // SAFETY: the context is current (and stays current for every call into
-    // the device: `Gpu::enter`).
-    let Some(exposed) = (unsafe {
-        wgpu::hal::gles::Adapter::new_external(|name| context.proc_address(name), options)
-    }) else {
-        return Ok(None);
-    };
-    let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
-    descriptor.backends = wgpu::Backends::empty();
-    let instance = wgpu::Instance::new(descriptor);
-    // SAFETY: an external GL adapter belongs to no instance of its own.
-    let adapter = unsafe { instance.create_adapter_from_hal(exposed) };
-    let mut gpu = open_device(adapter).await?;
-    drop(current);
-    gpu.external_context = Some(context);
-    Ok(Some(gpu))
 }
 
 fn backends() -> wgpu::Backends {
@@ -234,9 +158,6 @@ async fn open_device(adapter: wgpu::Adapter) -> Result<Gpu, RenderError> {
         description,
         max_texture_side,
         sample_count,
-        external_context: None,
-        is_software_gl: info.backend == wgpu::Backend::Gl
-            && info.device_type == wgpu::DeviceType::Cpu,
     })
 }
 

@@ -1,23 +1,44 @@
 //! The files of a run written one safe way: under a hidden temporary name
-//! until complete, with encoder errors naming the file. Shared by PNG frames
-//! (`frame_png.rs`) and videos (`video.rs`).
+//! until complete, PNG encoded one way, with encoder errors naming the file.
+//! Shared by PNG frames (`export.rs`) and videos (`video.rs`).
 
 use super::RenderError;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// The hidden temporary name a file is written under before it is complete.
-pub(crate) fn temporary_path(path: &Path) -> PathBuf {
-    hidden_path(path, "partial")
+/// A PNG encoder set up as every frame and video of a run is written: RGB,
+/// 8 bits, the fastest compression (the *Up* filter and fdeflate's fastest
+/// mode: a frame's flat background filters to zeros), an sRGB chunk.
+pub(crate) fn png_encoder<W: Write>(
+    writer: W,
+    width: u32,
+    height: u32,
+) -> png::Encoder<'static, W> {
+    let mut encoder = png::Encoder::new(writer, width, height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fastest);
+    encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    encoder
 }
 
-/// `path`'s hidden sibling `.NAME.suffix`: where a file of the run is
-/// written until complete (`partial`), or waits to be reused (`spare`).
-pub(crate) fn hidden_path(path: &Path, suffix: &str) -> PathBuf {
+/// Appends the RGB channels of the opaque RGBA pixels `rgba` to `rgb`.
+pub(crate) fn push_rgb(rgba: &[u8], rgb: &mut Vec<u8>) {
+    let start = rgb.len();
+    rgb.resize(start + rgba.len() / 4 * 3, 0);
+    for (to, from) in rgb[start..].chunks_exact_mut(3).zip(rgba.chunks_exact(4)) {
+        to.copy_from_slice(&from[..3]);
+    }
+}
+
+/// The hidden temporary name a file is written under before it is
+/// complete: its hidden sibling `.NAME.partial`.
+pub(crate) fn temporary_path(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    path.with_file_name(format!(".{name}.{suffix}"))
+    path.with_file_name(format!(".{name}.partial"))
 }
 
 /// A PNG encoder's error, naming the file being written.

@@ -1,8 +1,8 @@
 //! A video of images made elsewhere (e.g. a sweep's tiled comparison), through the same writers as a run's video.
 
-use super::frame_image::FrameImage;
 use super::partial_file::PartialFile;
-use super::video::{self, VideoSpec};
+use super::video;
+use super::video_writer::VideoSpec;
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
 use std::path::Path;
@@ -41,7 +41,7 @@ pub fn write_image_video(
                 frame.height()
             )));
         }
-        writer.push(&Arc::new(FrameImage::from(frame)))?;
+        writer.push(&Arc::new(frame))?;
         pushed += 1;
     }
     if pushed != frame_count {

@@ -20,8 +20,8 @@
 //! changed pixel reach the canvas's edge inside the image, the search is
 //! repeated on canvases of the whole image.
 
-use super::frame_image::PixelRect;
 use super::legend::Legend;
+use super::pixel_rect::PixelRect;
 use image::RgbaImage;
 
 /// A legend with its footprint and the last drawn result.

@@ -19,10 +19,10 @@
 
 use super::camera::{self, Bounds, Framing, View};
 use super::colormap::{srgb_to_linear3, viridis};
-use super::frame_image::PixelRect;
 use super::gpu_resources::{Globals, LineInstance};
 use super::legend::Legend;
 use super::legend_stamp::LegendStamp;
+use super::pixel_rect::PixelRect;
 use super::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
 use nalgebra::{Vector3, Vector4};

@@ -2,24 +2,23 @@
 //!
 //! The renderer draws what it is given: vertex positions and one scalar per
 //! element, never materials or physics. A run goes
-//! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one [`FrameImage`] per
-//! frame) → [`SequenceWriter`] (numbered PNG frames, APNG / MP4 / GIF video).
+//! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one whole
+//! [`RgbaImage`](image::RgbaImage) per frame) → [`SequenceWriter`] (numbered
+//! PNG frames from a pool of workers, APNG / MP4 / GIF video, one thread
+//! each).
 //!
-//! The GPU is whatever wgpu finds: a hardware adapter when present, otherwise
-//! a software one (on a GPU-less Linux machine, the GL backend over Mesa
-//! llvmpipe through EGL). `WGPU_BACKEND` (e.g. `gl`, `vulkan`) restricts the
-//! backends tried. Images are rendered into an sRGB target, with 4x MSAA in
-//! 3D and for the 2D backdrop. A frame draws only the tile around what
-//! changes over the run's fixed backdrop: in 2D the body (`body_tile`),
-//! with one sample per pixel and the anti-aliasing computed in its shaders
-//! (`body_coverage`); in 3D the body and its contact shadow, multisampled
-//! (`scene_tile`). So a software rasteriser does not clear, shade and
-//! resolve four samples of the whole image for every frame, and the frame stays a
-//! patch over the run's base image ([`FrameImage`]) all the way to the
-//! files, so that encoding it costs what the patch costs (`frame_png`, the
-//! APNG's sub-frames in `video`). Without a GPU, two llvmpipe devices with a
-//! rasteriser each draw a run's frames side by side (`drawers`, `egl_gpu`),
-//! the same bytes as one.
+//! The GPU is whatever wgpu finds, one device per process: a hardware
+//! adapter when present, otherwise a software one (on a GPU-less Linux
+//! machine, the GL backend over Mesa llvmpipe through EGL). `WGPU_BACKEND`
+//! (e.g. `gl`, `vulkan`) restricts the backends tried. Images are rendered
+//! into an sRGB target, with 4x MSAA in 3D and for the 2D backdrop. A frame
+//! draws only the tile around what changes over the run's fixed backdrop: in
+//! 2D the body (`body_tile`), with one sample per pixel and the
+//! anti-aliasing computed in its shaders (`body_coverage`); in 3D the body
+//! and its contact shadow, multisampled (`scene_tile`). So a software
+//! rasteriser does not clear, shade and resolve four samples of the whole
+//! image for every frame. The tile is pasted into the run's base image (the
+//! backdrop with the legend), and the encoders see whole images.
 //!
 //! Colours: element scalars go through [`viridis`] over one range for the
 //! whole run (automatic: min/max over all frames), so colours never flicker;
@@ -33,23 +32,23 @@ mod body_coverage;
 mod body_tile;
 mod camera;
 mod colormap;
-mod drawers;
-mod egl_gpu;
 mod export;
-mod frame_image;
-mod frame_png;
 mod frame_shape;
 mod frame_yuv;
 mod gpu;
 mod gpu_resources;
 mod image_file;
 mod image_video;
+mod layers;
 mod legend;
 mod legend_stamp;
 mod look;
 mod mesh_view;
 mod mp4_writer;
 mod partial_file;
+mod pixel_rect;
+mod preparing;
+mod readback;
 mod render_targets;
 mod renderer;
 mod scene_tile;
@@ -57,17 +56,14 @@ mod sequence;
 mod text;
 mod tile_slot;
 mod video;
+mod video_writer;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
-pub use drawers::{
-    PreparedRenderers, PreparingRenderers, RENDER_DEVICES_VARIABLE, device_limit, llvmpipe_threads,
-};
-pub use export::{check_video_support, frame_file_name, write_frame_png, write_png};
-pub use frame_image::FrameImage;
+pub use export::{check_video_support, frame_file_name, write_png};
 pub use gpu::{adapter_description, max_image_size};
 pub use image_video::write_image_video;
-pub(crate) use partial_file::keep_as_spare;
-pub use partial_file::{SpareFiles, remove_partial_files, write_whole_file};
+pub use partial_file::{remove_partial_files, write_whole_file};
+pub use preparing::PreparingRenderer;
 pub use renderer::{FrameTimings, PreparedRenderer, Renderer};
 pub use sequence::{FrameCost, SequenceWriter, render_sequence};
 pub use text::{FONT_BYTES, draw_text, text_width};

@@ -33,10 +33,10 @@
 //! whole run succeeded, and an interrupt removes it (`partial_file.rs`).
 
 use super::RenderError;
-use super::frame_image::FrameImage;
 use super::frame_yuv::{Yuv420Frames, padded_size};
 use super::partial_file::PartialFile;
-use super::video::{VideoSpec, VideoWriter, frame_delay};
+use super::video_writer::{VideoSpec, VideoWriter, frame_delay};
+use image::RgbaImage;
 use openh264::OpenH264API;
 use openh264::encoder::{
     BitRate, EncodedBitStream, Encoder, EncoderConfig, FrameRate, IntraFramePeriod,
@@ -92,8 +92,6 @@ pub(crate) struct Mp4Writer {
     planes: Yuv420Frames,
     /// The padded frame size.
     size: (u32, u32),
-    /// The latest frame as one I420 buffer: Y, then Cb, then Cr.
-    i420: Vec<u8>,
     muxer: mp4::Mp4Writer<BufWriter<File>>,
     /// The first frame's SPS and PPS, once the track is added.
     parameter_sets: Option<(Vec<u8>, Vec<u8>)>,
@@ -150,7 +148,6 @@ impl Mp4Writer {
             encoder,
             planes: Yuv420Frames::new((spec.width, spec.height), spec.background),
             size,
-            i420: Vec::new(),
             muxer,
             parameter_sets: None,
             sample: Vec::new(),
@@ -243,23 +240,22 @@ fn strip_start_code(unit: &[u8]) -> &[u8] {
 }
 
 impl VideoWriter for Mp4Writer {
-    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let index = self.frames;
-        self.i420.clear();
-        self.planes
-            .for_each_span(frame, |span| self.i420.extend_from_slice(span));
+        // One I420 buffer: Y, then Cb, then Cr.
+        let i420 = self.planes.convert(frame);
         let (width, height) = (self.size.0 as usize, self.size.1 as usize);
-        if self.i420.len() != width * height * 3 / 2 {
+        if i420.len() != width * height * 3 / 2 {
             return Err(encode_error(
                 &self.path,
                 format!(
                     "frame {index} has {} bytes of YUV 4:2:0, not {} for {width}x{height}",
-                    self.i420.len(),
+                    i420.len(),
                     width * height * 3 / 2
                 ),
             ));
         }
-        let (luma, chroma) = self.i420.split_at(width * height);
+        let (luma, chroma) = i420.split_at(width * height);
         let (cb, cr) = chroma.split_at(luma.len() / 4);
         let source = YUVSlices::new(
             (luma, cb, cr),

@@ -22,7 +22,7 @@
 use super::RenderError;
 use super::gpu::{Gpu, check_scope};
 use super::gpu_resources::{COLOR_FORMAT, DEPTH_FORMAT, padded_row_bytes, readback_buffer};
-use super::renderer::read_texture;
+use super::readback::read_texture;
 use image::RgbaImage;
 
 /// Colour (multisampled and resolved) and optional depth targets of one size.

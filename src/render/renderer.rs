@@ -5,7 +5,7 @@
 //! run's appearance ([`Look`]: camera, colours, ground, shadow, edges,
 //! legend), the GPU objects ([`GpuResources`]), the backdrop (the whole
 //! image without the body) and the base every frame is a patch over (the
-//! backdrop with the legend, see [`FrameImage`]) are all fixed then. Each
+//! backdrop with the legend) are all fixed then. Each
 //! frame then reads as one straight line: check it, fill the vertex
 //! buffers, draw the tile around what changed, read it back, stamp the
 //! legend where the tile meets it (drawn once on the CPU).
@@ -36,11 +36,12 @@
 
 use super::body_coverage::{BodyTopology, BodyVertex, FringeInstance};
 use super::body_tile::{BodyTiles, TileInputs, body_rect};
-use super::frame_image::{FrameBase, FrameImage, Patch, PixelRect};
 use super::frame_shape::FrameShape;
 use super::gpu::{Gpu, check_scope, shared_gpu, wait};
-use super::gpu_resources::{COLOR_FORMAT, GpuResources, LineInstance, SurfaceVertex};
+use super::gpu_resources::{GpuResources, LineInstance, SurfaceVertex};
+use super::layers::{Layers, record_layers};
 use super::look::Look;
+use super::pixel_rect::{Patch, PixelRect};
 use super::render_targets::WholeImageTargets;
 use super::scene_tile::{SceneTiles, scene_rect, shadow_rect};
 use super::{RenderError, RenderFrame, RenderMesh, RenderSettings};
@@ -93,9 +94,9 @@ struct Body {
 /// The fixed part of a run's frames, and the tiles drawn over it.
 struct Backdrop {
     /// The whole image without the body (and in 3D its shadow) and the legend.
-    image: Arc<RgbaImage>,
-    /// The backdrop with the legend: every frame is a patch over it.
-    base: Arc<FrameBase>,
+    image: RgbaImage,
+    /// The backdrop with the legend: every frame is this with its tile pasted in.
+    base: RgbaImage,
     tiles: FrameTiles,
 }
 
@@ -131,11 +132,6 @@ pub struct PreparedRenderer {
 }
 
 impl PreparedRenderer {
-    /// The device it draws on.
-    pub(super) fn gpu(&self) -> &Arc<Gpu> {
-        &self.gpu
-    }
-
     /// The settings it was prepared for.
     pub fn settings(&self) -> &RenderSettings {
         &self.settings
@@ -208,31 +204,7 @@ impl PreparedRenderer {
         renderer.whole_image = None;
         let mut base = image.clone();
         renderer.look.draw_overlay(&mut base);
-        renderer.backdrop = Some(Backdrop {
-            image: Arc::new(image),
-            base: FrameBase::new(base),
-            tiles,
-        });
-        Ok(renderer)
-    }
-
-    /// A renderer that draws the frames of the run `fixtures` come from
-    /// (see [`Renderer::fixtures`]), on this renderer's device: the same
-    /// shape, look, backdrop and base, so the same frames to the byte. A 2D
-    /// backdrop is uploaded, not drawn again.
-    pub(super) fn complete_with(self, fixtures: RunFixtures) -> Result<Renderer, RenderError> {
-        let mut renderer = self.into_renderer(fixtures.shape, fixtures.look);
-        let tiles = if renderer.mesh.dimension == 2 {
-            let texture = upload_image(&renderer.gpu, &fixtures.image)?;
-            renderer.body_tiles(&texture)?
-        } else {
-            FrameTiles::Scene(SceneTiles::new(renderer.size()))
-        };
-        renderer.backdrop = Some(Backdrop {
-            image: fixtures.image,
-            base: fixtures.base,
-            tiles,
-        });
+        renderer.backdrop = Some(Backdrop { image, base, tiles });
         Ok(renderer)
     }
 
@@ -260,15 +232,6 @@ impl PreparedRenderer {
     }
 }
 
-/// What a renderer fixed for its run (see [`PreparedRenderer::complete_with`]).
-#[derive(Clone)]
-pub(super) struct RunFixtures {
-    shape: FrameShape,
-    look: Look,
-    image: Arc<RgbaImage>,
-    base: Arc<FrameBase>,
-}
-
 impl Renderer {
     /// Prepares to draw `mesh`. The automatic camera frames all of `frames`
     /// and the automatic colour range spans all of them, so neither changes
@@ -293,17 +256,7 @@ impl Renderer {
         settings: &RenderSettings,
         mesh: &RenderMesh,
     ) -> Result<PreparedRenderer, RenderError> {
-        Self::prepare_on(shared_gpu()?, settings, mesh)
-    }
-
-    /// [`Renderer::prepare`] on `gpu`. A device whose context wgpu does not
-    /// make current (see `egl_gpu`) must be entered by the caller
-    /// ([`Gpu::enter`]) around this and every later call.
-    pub(super) fn prepare_on(
-        gpu: Arc<Gpu>,
-        settings: &RenderSettings,
-        mesh: &RenderMesh,
-    ) -> Result<PreparedRenderer, RenderError> {
+        let gpu = shared_gpu()?;
         if settings.width > gpu.max_texture_side || settings.height > gpu.max_texture_side {
             return Err(RenderError::ImageTooLarge {
                 width: settings.width,
@@ -329,23 +282,6 @@ impl Renderer {
         self.whole_image.is_some()
     }
 
-    /// The device it draws on.
-    pub(super) fn gpu(&self) -> &Arc<Gpu> {
-        &self.gpu
-    }
-
-    /// What this renderer fixed for its run, for another renderer to draw
-    /// the same frames ([`PreparedRenderer::complete_with`]).
-    pub(super) fn fixtures(&self) -> RunFixtures {
-        let backdrop = self.backdrop.as_ref().expect("made with the renderer");
-        RunFixtures {
-            shape: self.shape,
-            look: self.look.clone(),
-            image: backdrop.image.clone(),
-            base: backdrop.base.clone(),
-        }
-    }
-
     /// The adapter this renderer draws with (name, backend, driver, type).
     pub fn adapter_description(&self) -> &str {
         &self.gpu.description
@@ -368,7 +304,7 @@ impl Renderer {
 
     /// Draws one frame as a whole image.
     pub fn render(&mut self, frame: &RenderFrame) -> Result<RgbaImage, RenderError> {
-        self.render_timed(frame).map(|(image, _)| image.to_rgba())
+        self.render_timed(frame).map(|(image, _)| image)
     }
 
     /// Draws one frame as one whole image, the way its frames are drawn:
@@ -407,12 +343,12 @@ impl Renderer {
         Ok(image)
     }
 
-    /// Draws one frame as a patch over the run's base (see
-    /// [`FrameImage`]), and says how long each stage took.
+    /// Draws one frame as a whole image (the run's base with the frame's
+    /// tile pasted in), and says how long each stage took.
     pub fn render_timed(
         &mut self,
         frame: &RenderFrame,
-    ) -> Result<(FrameImage, FrameTimings), RenderError> {
+    ) -> Result<(RgbaImage, FrameTimings), RenderError> {
         let start = Instant::now();
         self.shape.check(frame)?;
         self.fill_buffers(frame);
@@ -441,17 +377,23 @@ impl Renderer {
         let backdrop = self.backdrop.as_ref().expect("made with the renderer");
         let patch = backdrop.tiles.read_back(&self.gpu, rect)?;
         let read = Instant::now();
-        // Where the tile meets the legend, the legend is drawn over it.
-        let patch = patch.map(|patch| match self.look.overlay_footprint() {
-            Some(footprint) if footprint.intersects(&patch.rect) => {
-                let mut image = RgbaImage::clone(&backdrop.image);
-                patch.paste_into(&mut image);
-                self.look.draw_overlay(&mut image);
-                Patch::cut(&image, patch.rect)
-            }
-            _ => patch,
-        });
-        let image = FrameImage::patched(backdrop.base.clone(), patch);
+        let image = match patch {
+            None => backdrop.base.clone(),
+            // Where the tile meets the legend, the legend is drawn over it.
+            Some(patch) => match self.look.overlay_footprint() {
+                Some(footprint) if footprint.intersects(&patch.rect) => {
+                    let mut image = backdrop.image.clone();
+                    patch.paste_into(&mut image);
+                    self.look.draw_overlay(&mut image);
+                    image
+                }
+                _ => {
+                    let mut image = backdrop.base.clone();
+                    patch.paste_into(&mut image);
+                    image
+                }
+            },
+        };
         let timings = FrameTimings {
             draw: drawn - start,
             readback: read - drawn,
@@ -752,69 +694,6 @@ fn warm_up_size(width: u32, height: u32) -> (u32, u32) {
     }
 }
 
-/// What one multisampled pass draws, from the renderer's filled buffers:
-/// the whole image ([`Renderer::render_multisampled`], the backdrops) or a
-/// 3D tile (`scene_tile`).
-pub(super) struct Layers<'a> {
-    pub resources: &'a GpuResources,
-    /// Whether the background is a gradient (a plain one is the clear colour).
-    pub background: bool,
-    pub surface_vertices: u32,
-    /// The first line instances, drawn behind the body (the 2D ground line).
-    pub ground_lines: u32,
-    /// All line instances, the ground lines included.
-    pub lines: u32,
-}
-
-/// Records `layers` into `pass`. 3D: the opaque layers nearest first, so
-/// that hidden samples are rejected before they are shaded (see
-/// `DepthTest`), then the edges. 2D: painted back to front.
-pub(super) fn record_layers(pass: &mut wgpu::RenderPass<'_>, layers: &Layers<'_>) {
-    let r = layers.resources;
-    pass.set_bind_group(0, &r.bind_group, &[]);
-    let draw_layer = |pass: &mut wgpu::RenderPass<'_>, pipeline, vertices| {
-        pass.set_pipeline(pipeline);
-        pass.draw(0..vertices, 0..1);
-    };
-    let draw_surface = |pass: &mut wgpu::RenderPass<'_>| {
-        if layers.surface_vertices > 0 {
-            pass.set_pipeline(&r.surface);
-            pass.set_vertex_buffer(0, r.surface_vertices.slice(..));
-            pass.draw(0..layers.surface_vertices, 0..1);
-        }
-    };
-    let draw_lines = |pass: &mut wgpu::RenderPass<'_>, instances: std::ops::Range<u32>| {
-        if !instances.is_empty() {
-            pass.set_pipeline(&r.line);
-            pass.set_vertex_buffer(0, r.line_instances.slice(..));
-            pass.draw(0..6, instances);
-        }
-    };
-    let background = layers.background.then_some(&r.background);
-    if r.depth {
-        draw_surface(pass);
-        if let Some(ground) = &r.ground {
-            draw_layer(pass, ground, 6);
-        }
-        if let Some(background) = background {
-            draw_layer(pass, background, 3);
-        }
-    } else {
-        if let Some(background) = background {
-            draw_layer(pass, background, 3);
-        }
-        if let Some(ground) = &r.ground {
-            draw_layer(pass, ground, 6);
-        }
-        draw_lines(pass, 0..layers.ground_lines);
-        draw_surface(pass);
-    }
-    draw_lines(
-        pass,
-        layers.ground_lines..layers.lines.max(layers.ground_lines),
-    );
-}
-
 /// What a 2D frame's tile is drawn with, from the buffers filled for it.
 fn tile_inputs<'a>(
     resources: &'a GpuResources,
@@ -829,130 +708,4 @@ fn tile_inputs<'a>(
         fringes: body.fringes.len() as u32,
         body_lines: look.ground_lines()..lines.len() as u32,
     }
-}
-
-/// A texture holding `image`, for the 2D tiles to start from.
-fn upload_image(gpu: &Gpu, image: &RgbaImage) -> Result<wgpu::Texture, RenderError> {
-    let device = &gpu.device;
-    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let size = wgpu::Extent3d {
-        width: image.width(),
-        height: image.height(),
-        depth_or_array_layers: 1,
-    };
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("uploaded backdrop"),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: COLOR_FORMAT,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    gpu.queue.write_texture(
-        texture.as_image_copy(),
-        image.as_raw(),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * image.width()),
-            rows_per_image: Some(image.height()),
-        },
-        size,
-    );
-    check_scope(validation, "uploading the backdrop")?;
-    Ok(texture)
-}
-
-/// Copies the top-left `size` pixels of `texture` into `buffer` (rows
-/// `padded_bytes_per_row` apart), maps it, waits, and hands each row's
-/// pixels, without the padding, to `row` with its index.
-pub(super) fn read_texture(
-    gpu: &Gpu,
-    texture: &wgpu::Texture,
-    buffer: &wgpu::Buffer,
-    padded_bytes_per_row: u32,
-    size: (u32, u32),
-    row: impl FnMut(u32, &[u8]),
-) -> Result<(), RenderError> {
-    let device = &gpu.device;
-    let validation = device.push_error_scope(wgpu::ErrorFilter::Validation);
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("readback encoder"),
-    });
-    encode_texture_copy(&mut encoder, texture, buffer, padded_bytes_per_row, size);
-    gpu.queue.submit([encoder.finish()]);
-    check_scope(validation, "copying a frame")?;
-    read_buffer(gpu, buffer, padded_bytes_per_row, size, row)
-}
-
-/// Records the copy of the top-left `size` pixels of `texture` into
-/// `buffer`, rows `padded_bytes_per_row` apart.
-pub(super) fn encode_texture_copy(
-    encoder: &mut wgpu::CommandEncoder,
-    texture: &wgpu::Texture,
-    buffer: &wgpu::Buffer,
-    padded_bytes_per_row: u32,
-    (width, height): (u32, u32),
-) {
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded_bytes_per_row),
-                rows_per_image: Some(height),
-            },
-        },
-        wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-    );
-}
-
-/// Maps `buffer` once the copies submitted into it are done, and hands
-/// each of its `size.1` rows' pixels (`size.0` wide, without the padding
-/// to `padded_bytes_per_row`) to `row` with its index.
-pub(super) fn read_buffer(
-    gpu: &Gpu,
-    buffer: &wgpu::Buffer,
-    padded_bytes_per_row: u32,
-    (width, height): (u32, u32),
-    mut row: impl FnMut(u32, &[u8]),
-) -> Result<(), RenderError> {
-    let device = &gpu.device;
-    let (sender, receiver) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |result| {
-        let _ = sender.send(result);
-    });
-    wait(device, "reading a frame back")?;
-    receiver
-        .recv()
-        .map_err(|_| RenderError::Gpu {
-            during: "reading a frame back",
-            message: "the map callback never ran".into(),
-        })?
-        .map_err(|e| RenderError::Gpu {
-            during: "reading a frame back",
-            message: e.to_string(),
-        })?;
-    {
-        let mapped = buffer.get_mapped_range(..).map_err(|e| RenderError::Gpu {
-            during: "reading a frame back",
-            message: e.to_string(),
-        })?;
-        let row_bytes = (width * 4) as usize;
-        for (index, padded) in mapped
-            .chunks_exact(padded_bytes_per_row as usize)
-            .take(height as usize)
-            .enumerate()
-        {
-            row(index as u32, &padded[..row_bytes]);
-        }
-    }
-    buffer.unmap();
-    Ok(())
 }

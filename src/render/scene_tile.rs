@@ -7,7 +7,7 @@
 //! background and the ground, no body, no shadow — is drawn once, whole,
 //! and each frame draws only a pixel rectangle `R` and reads back only
 //! that: the frame is the backdrop with the tile as its patch
-//! (`frame_image`). On llvmpipe a whole 1280x720 frame cost 64 ms, most of
+//! (`renderer`). On llvmpipe a whole 1280x720 frame cost 64 ms, most of
 //! it clearing, shading and resolving four samples of every pixel.
 //!
 //! `R` is the union of
@@ -33,11 +33,11 @@
 
 use super::RenderError;
 use super::body_tile::projected_rect;
-use super::frame_image::{Patch, PixelRect};
 use super::gpu::Gpu;
 use super::gpu_resources::Globals;
+use super::layers::{Layers, record_layers};
+use super::pixel_rect::{Patch, PixelRect};
 use super::render_targets::RenderTargets;
-use super::renderer::{Layers, record_layers};
 use super::tile_slot::TileSlot;
 use nalgebra::Matrix4;
 

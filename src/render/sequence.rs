@@ -1,46 +1,42 @@
 //! Writing a run frame by frame: numbered PNG frames and videos.
 //!
 //! A [`SequenceWriter`] is fed one [`RenderFrame`] at a time, as the
-//! simulation produces them or from a finished run. It sends each frame to
-//! the drawers (`drawers`: one renderer per graphics device, each on a
-//! thread of its own), and a collector thread takes the drawn frames back
-//! in frame order and hands each image to:
-//! - PNG workers, through a bounded queue (so memory stays flat however long
-//!   the run), which encode with fast compression (a frame over its base
-//!   reuses the base's rows compressed once, see `frame_png`) and write each
-//!   frame under a hidden temporary name, renamed once complete;
+//! simulation produces them or from a finished run. [`SequenceWriter::push`]
+//! draws the frame into a whole image ([`Renderer::render_timed`]) and hands
+//! it to:
+//! - a pool of PNG workers, through one bounded queue (so memory stays flat
+//!   however long the run), each encoding whole images with the `png` crate
+//!   (fast compression) and writing each frame under a hidden temporary
+//!   name, renamed once complete;
 //! - one thread per video format, through its own bounded queue, in frame
 //!   order.
 //!
-//! A full queue makes the collector wait, and the drawers and then
-//! [`SequenceWriter::push`] with it, so neither rendering nor the
-//! simulation feeding it can run ahead of the encoders by more than a few
-//! dozen frames. Each frame's [`FrameCost`] (draw, readback, legend, PNG,
-//! videos, and which device drew it) is handed out by
-//! [`SequenceWriter::take_costs`] once the frame is in the PNG file and in
-//! every video, in frame order. The first error stops the run: no frame after
-//! it is started. Videos are renamed to their final names only by
-//! [`SequenceWriter::finish`] after every frame and every video succeeded. A
-//! writer dropped unfinished (the simulation failed) writes the frames
-//! already pushed and removes its partial videos; the frames written stay,
-//! each one complete. On SIGINT or SIGTERM the binary removes partial frames
-//! and videos through [`remove_partial_files`](super::remove_partial_files).
+//! A full queue makes `push` wait, so neither rendering nor the simulation
+//! feeding it can run ahead of the encoders by more than a few frames.
+//! Each frame's [`FrameCost`] (draw, readback, legend, PNG, videos) is
+//! handed out by [`SequenceWriter::take_costs`] once the frame is in the PNG
+//! file and in every video, in frame order. The first error stops the run:
+//! no frame after it is started. Videos are renamed to their final names
+//! only by [`SequenceWriter::finish`] after every frame and every video
+//! succeeded. A writer dropped unfinished (the simulation failed) writes the
+//! frames already pushed and removes its partial videos; the frames written
+//! stay, each one complete. On SIGINT or SIGTERM the binary removes partial
+//! frames and videos through [`remove_partial_files`](super::remove_partial_files).
 
 use super::colormap::linear_to_srgb8;
-use super::drawers::{Drawers, DrawnFrames, PreparedRenderers};
-use super::export::{check_video_support, frame_file_name};
-use super::frame_image::FrameImage;
-use super::frame_png::FramePngWriter;
+use super::export::{check_video_support, frame_file_name, write_png};
 use super::frame_shape::FrameShape;
 use super::partial_file::PartialFile;
-use super::video::{self, VideoSpec, VideoWriter};
+use super::video;
+use super::video_writer::{VideoSpec, VideoWriter};
 use super::{
-    FrameTimings, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, VideoFormat,
+    FrameTimings, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
+    RenderSettings, Renderer, VideoFormat,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
+use image::RgbaImage;
 use std::path::Path;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -53,8 +49,6 @@ pub struct FrameCost {
     pub png: Duration,
     /// Encoding and writing the frame into every video, on the video threads.
     pub video: Duration,
-    /// Which device drew it: 0 the shared one, 1 the second (see `drawers`).
-    pub drawer: usize,
 }
 
 impl FrameCost {
@@ -69,18 +63,17 @@ impl FrameCost {
     }
 }
 
+/// A frame as the encoders take it: its index and its whole image.
+type Image = Arc<RgbaImage>;
+
 /// Renders frames one at a time and writes them as PNG files and videos.
 pub struct SequenceWriter {
-    drawers: Drawers,
-    /// The thread that hands the frames drawn, in order, to the encoders.
-    collector: Option<JoinHandle<()>>,
-    /// What the collector reports, frame by frame.
-    collected: Receiver<Collected>,
+    renderer: Renderer,
     frame_count: usize,
-    /// Frames sent to the drawers, and frames drawn and handed to the
-    /// encoders (in order).
+    /// Frames drawn and handed to the encoders.
     pushed: usize,
-    queued: usize,
+    /// The PNG workers' queue, until the run is finished.
+    png: Option<Sender<(usize, Image)>>,
     png_done: Receiver<Result<(usize, Duration), RenderError>>,
     png_workers: Vec<JoinHandle<()>>,
     videos: Vec<VideoThread>,
@@ -94,31 +87,17 @@ pub struct SequenceWriter {
     videos_written: Vec<usize>,
     /// Frames whose costs [`SequenceWriter::take_costs`] has handed out.
     costs_taken: usize,
-    /// The first error of a frame or an encoder, once reported, until
-    /// `push` or `finish` returns it.
+    /// The first error of an encoder, once reported, until `push` or
+    /// `finish` returns it.
     error: Option<RenderError>,
     /// A frame or video failed: the run can no longer complete.
     failed: bool,
 }
 
-/// What the collector reports of each frame, in order.
-enum Collected {
-    /// The frame was drawn by `drawer` and handed to the encoders.
-    Queued {
-        index: usize,
-        drawer: usize,
-        timings: FrameTimings,
-    },
-    /// The frame could not be drawn; no later frame is handed on.
-    Failed(RenderError),
-    /// An encoder stopped taking frames (its own error says why).
-    EncoderStopped,
-}
-
 struct VideoThread {
     /// The video's file; removed unless published.
     partial: Option<PartialFile>,
-    sender: Option<Sender<Arc<FrameImage>>>,
+    sender: Option<Sender<Image>>,
     thread: Option<JoinHandle<Result<(), RenderError>>>,
 }
 
@@ -137,16 +116,16 @@ impl SequenceWriter {
         outputs: &RenderOutputs,
     ) -> Result<Self, RenderError> {
         check_request(settings, frame_count, known_frames, outputs)?;
-        // Bad frames are reported before the devices are opened.
+        // Bad frames are reported before the device is opened.
         FrameShape::of_run(settings, mesh, known_frames)?;
-        let prepared = PreparedRenderers::prepare(settings, mesh)?;
+        let prepared = Renderer::prepare(settings, mesh)?;
         Self::create_prepared(prepared, frame_count, known_frames, outputs)
     }
 
-    /// [`SequenceWriter::create`] with renderers prepared beforehand (see
-    /// [`PreparedRenderers::prepare`]).
+    /// [`SequenceWriter::create`] with a renderer prepared beforehand (see
+    /// [`Renderer::prepare`]).
     pub fn create_prepared(
-        prepared: PreparedRenderers,
+        prepared: PreparedRenderer,
         frame_count: usize,
         known_frames: &[RenderFrame],
         outputs: &RenderOutputs,
@@ -157,17 +136,17 @@ impl SequenceWriter {
         if !outputs.videos.is_empty() {
             create_dir(&outputs.video_dir)?;
         }
-        let drawers = prepared.start(known_frames)?;
-        Self::start(drawers, &settings, frame_count, outputs)
+        let renderer = prepared.with_frames(known_frames)?;
+        Self::start(renderer, frame_count, outputs)
     }
 
-    /// Starts the encoders of a run drawn by `drawers` with `settings`.
+    /// Starts the encoders of a run drawn by `renderer`.
     fn start(
-        mut drawers: Drawers,
-        settings: &RenderSettings,
+        renderer: Renderer,
         frame_count: usize,
         outputs: &RenderOutputs,
     ) -> Result<Self, RenderError> {
+        let settings = renderer.settings();
         let (width, height) = (settings.width, settings.height);
         let mut videos: Vec<VideoThread> = Vec::new();
         let (video_done_sender, video_done) = unbounded();
@@ -199,7 +178,7 @@ impl SequenceWriter {
         let workers = std::thread::available_parallelism()
             .map_or(2, |n| n.get())
             .clamp(1, 4);
-        let (png_sender, png_receiver) = bounded::<(usize, Arc<FrameImage>)>(2 * workers);
+        let (png, png_receiver) = bounded::<(usize, Image)>(2 * workers);
         let (done_sender, png_done) = unbounded();
         let png_workers = (0..workers)
             .map(|_| {
@@ -209,25 +188,11 @@ impl SequenceWriter {
             })
             .collect();
 
-        // The collector holds the only senders to the encoders: once it
-        // ends, they finish.
-        let video_senders = videos
-            .iter_mut()
-            .filter_map(|video| video.sender.take())
-            .collect();
-        let (report, collected) = unbounded();
-        let (drawn, stop) = (drawers.drawn_frames(), drawers.stop_flag());
-        let collector = std::thread::spawn(move || {
-            collect(drawn, video_senders, png_sender, report, &stop);
-        });
-
         Ok(Self {
-            drawers,
-            collector: Some(collector),
-            collected,
+            renderer,
             frame_count,
             pushed: 0,
-            queued: 0,
+            png: Some(png),
             png_done,
             png_workers,
             videos,
@@ -242,16 +207,14 @@ impl SequenceWriter {
         })
     }
 
-    /// Sends the next frame to be drawn (it is drawn, encoded and written
-    /// while later frames are pushed); waits while as many frames are in
-    /// flight as may be. Fails with the first error of any frame or video
-    /// reported so far (a frame's own error may come with a later push, or
-    /// with `finish`).
+    /// Draws the next frame and hands it to the encoders (it is encoded and
+    /// written while later frames are pushed); waits while their queues are
+    /// full. Fails with the frame's own error, or the first error of any
+    /// PNG file or video reported so far.
     pub fn push(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
         let result = self.send(frame);
         if result.is_err() {
             self.failed = true;
-            self.drawers.stop();
         }
         result
     }
@@ -272,36 +235,30 @@ impl SequenceWriter {
         if let Some(error) = self.error.take() {
             return Err(error);
         }
-        if self.drawers.send(frame.clone()).is_err() {
-            // The collector stopped: it said why.
-            self.join_collector();
-            self.take_reports();
-            return Err(self.error.take().unwrap_or_else(stopped_silently));
+        let index = self.pushed;
+        let (image, timings) =
+            self.renderer
+                .render_timed(frame)
+                .map_err(|error| RenderError::Frame {
+                    index,
+                    error: Box::new(error),
+                })?;
+        self.costs[index].timings = timings;
+        let image = Arc::new(image);
+        let sent = self.videos.iter().all(|video| video.send(image.clone()))
+            && self
+                .png
+                .as_ref()
+                .is_some_and(|png| png.send((index, image)).is_ok());
+        if !sent {
+            return Err(self.encoder_error());
         }
         self.pushed += 1;
         Ok(())
     }
 
-    /// Records what the collector and the PNG workers have reported.
+    /// Records what the PNG workers have reported.
     fn take_reports(&mut self) {
-        while let Ok(report) = self.collected.try_recv() {
-            match report {
-                Collected::Queued {
-                    index,
-                    drawer,
-                    timings,
-                } => {
-                    self.costs[index].timings = timings;
-                    self.costs[index].drawer = drawer;
-                    self.queued += 1;
-                }
-                Collected::Failed(error) => self.fail(error),
-                Collected::EncoderStopped => {
-                    let error = self.encoder_error();
-                    self.fail(error);
-                }
-            }
-        }
         while let Ok(done) = self.png_done.try_recv() {
             self.record(done);
         }
@@ -310,17 +267,7 @@ impl SequenceWriter {
     /// Keeps the first error; the run can no longer complete.
     fn fail(&mut self, error: RenderError) {
         self.failed = true;
-        self.drawers.stop();
         self.error.get_or_insert(error);
-    }
-
-    /// Waits for the collector to hand on every frame the drawers draw.
-    fn join_collector(&mut self) {
-        if let Some(collector) = self.collector.take()
-            && let Err(panic) = collector.join()
-        {
-            std::panic::resume_unwind(panic);
-        }
     }
 
     /// How many frames, from frame 0 on without a gap, are written to disk.
@@ -360,11 +307,8 @@ impl SequenceWriter {
     /// [`SequenceWriter::finish`], also handing out the costs of the frames
     /// [`SequenceWriter::take_costs`] has not.
     pub fn finish_with_costs(mut self) -> Result<Vec<FrameCost>, RenderError> {
-        // The frames pushed are drawn and handed on; then the encoders,
-        // whose queues the collector held, finish.
-        self.drawers.close();
-        self.join_collector();
-        self.take_reports();
+        // The encoders finish the frames queued.
+        self.png = None;
         for done in self.png_done.clone().iter() {
             self.record(done);
         }
@@ -383,10 +327,10 @@ impl SequenceWriter {
                 "a frame failed earlier; the videos are incomplete".into(),
             ));
         }
-        if first_error.is_none() && self.queued != self.frame_count {
+        if first_error.is_none() && self.pushed != self.frame_count {
             first_error = Some(RenderError::InvalidInput(format!(
                 "the run has {} frames but only {} were rendered",
-                self.frame_count, self.queued
+                self.frame_count, self.pushed
             )));
         }
         if let Some(error) = first_error {
@@ -416,9 +360,9 @@ impl SequenceWriter {
     }
 
     /// After an encoder stopped taking frames: the error of whichever
-    /// stopped (the collector has stopped and dropped their queues).
+    /// stopped (the queues are closed, so that the others stop too).
     fn encoder_error(&mut self) -> RenderError {
-        self.join_collector();
+        self.png = None;
         for done in self.png_done.clone().iter() {
             if let Err(error) = done {
                 return error;
@@ -432,50 +376,6 @@ impl SequenceWriter {
         RenderError::Gpu {
             during: "writing frames",
             message: "an output thread stopped without an error".into(),
-        }
-    }
-}
-
-/// The error of a run whose collector stopped without saying why.
-fn stopped_silently() -> RenderError {
-    RenderError::Gpu {
-        during: "drawing a frame",
-        message: "the frames stopped being handed on without an error".into(),
-    }
-}
-
-/// The collector: hands the frames drawn, in order, to each video's thread
-/// and to the PNG workers, and reports each to the writer. It stops at the
-/// first frame that could not be drawn or the first encoder that stops
-/// taking frames (and stops the drawers), and when the drawers are done.
-fn collect(
-    drawn: DrawnFrames,
-    videos: Vec<Sender<Arc<FrameImage>>>,
-    png: Sender<(usize, Arc<FrameImage>)>,
-    report: Sender<Collected>,
-    stop: &AtomicBool,
-) {
-    for (index, drawer, drawn) in drawn {
-        let (image, timings) = match drawn {
-            Ok(drawn) => drawn,
-            Err(error) => {
-                stop.store(true, Ordering::Relaxed);
-                let _ = report.send(Collected::Failed(error));
-                return;
-            }
-        };
-        let _ = report.send(Collected::Queued {
-            index,
-            drawer,
-            timings,
-        });
-        let image = Arc::new(image);
-        let sent = videos.iter().all(|video| video.send(image.clone()).is_ok())
-            && png.send((index, image)).is_ok();
-        if !sent {
-            stop.store(true, Ordering::Relaxed);
-            let _ = report.send(Collected::EncoderStopped);
-            return;
         }
     }
 }
@@ -508,14 +408,10 @@ fn check_request(
 }
 
 impl Drop for SequenceWriter {
-    /// An unfinished run: the frames pushed are drawn and written (unless
-    /// a frame failed), then partial videos are removed.
+    /// An unfinished run: the frames pushed are written, then partial
+    /// videos are removed.
     fn drop(&mut self) {
-        if self.failed {
-            self.drawers.stop();
-        }
-        self.drawers.close();
-        self.join_collector();
+        self.png = None;
         for worker in std::mem::take(&mut self.png_workers) {
             let _ = worker.join();
         }
@@ -529,7 +425,7 @@ impl VideoThread {
         mut writer: Box<dyn VideoWriter>,
         done: Sender<(usize, Duration)>,
     ) -> Self {
-        let (sender, receiver) = bounded::<Arc<FrameImage>>(3);
+        let (sender, receiver) = bounded::<Image>(3);
         let thread = std::thread::spawn(move || -> Result<(), RenderError> {
             for (index, image) in receiver.into_iter().enumerate() {
                 let start = Instant::now();
@@ -543,6 +439,13 @@ impl VideoThread {
             sender: Some(sender),
             thread: Some(thread),
         }
+    }
+
+    /// Queues the next frame; false once the video has stopped (on an error).
+    fn send(&self, image: Image) -> bool {
+        self.sender
+            .as_ref()
+            .is_some_and(|sender| sender.send(image).is_ok())
     }
 
     /// Closes the queue and waits for the video; the first call returns its result.
@@ -595,14 +498,13 @@ fn create_dir(dir: &Path) -> Result<(), RenderError> {
 fn png_worker(
     dir: &Path,
     frame_count: usize,
-    frames: Receiver<(usize, Arc<FrameImage>)>,
+    frames: Receiver<(usize, Image)>,
     done: Sender<Result<(usize, Duration), RenderError>>,
 ) {
-    let mut png = FramePngWriter::default();
     for (index, image) in frames {
         let start = Instant::now();
         let path = dir.join(frame_file_name(index, frame_count));
-        let result = png.write(&path, &image).map(|()| (index, start.elapsed()));
+        let result = write_png(&path, &image).map(|()| (index, start.elapsed()));
         let failed = result.is_err();
         let _ = done.send(result);
         if failed {

@@ -10,11 +10,10 @@
 //! per frame.
 
 use super::RenderError;
-use super::body_tile::tile_transform;
-use super::frame_image::{Patch, PixelRect};
 use super::gpu::{Gpu, check_scope, wait};
 use super::gpu_resources::{padded_row_bytes, readback_buffer};
-use super::renderer::{encode_texture_copy, read_buffer};
+use super::pixel_rect::{Patch, PixelRect};
+use super::readback::{encode_texture_copy, read_buffer};
 
 /// Tile targets grow in steps of this many pixels per side.
 const CAPACITY_STEP: u32 = 64;
@@ -131,4 +130,24 @@ impl<T> TileSlot<T> {
         )?;
         Ok(Some(Patch { rect, pixels }))
     }
+}
+
+/// `tile` and `tile_origin` of the uniforms for drawing `rect` of a
+/// `width × height` image into a target of `capacity` pixels (see `body_tile`).
+pub(super) fn tile_transform(
+    rect: PixelRect,
+    capacity: (u32, u32),
+    width: u32,
+    height: u32,
+) -> ([f32; 4], [f32; 4]) {
+    let (w, h) = (f64::from(width), f64::from(height));
+    let (wc, hc) = (f64::from(capacity.0), f64::from(capacity.1));
+    let (x0, y0) = (f64::from(rect.x), f64::from(rect.y));
+    let tile = [
+        w / wc,
+        h / hc,
+        (w - 2.0 * x0) / wc - 1.0,
+        1.0 - (h - 2.0 * y0) / hc,
+    ];
+    (tile.map(|c| c as f32), [x0 as f32, y0 as f32, 0.0, 0.0])
 }

@@ -12,23 +12,23 @@
 //!
 //! - APNG (`video.png`): the `png` crate, RGB, fast compression, frame delay
 //!   the fraction of a second closest to `1 / fps` ([`frame_delay`]: exact
-//!   where a numerator up to 1000 gives it). The first frame
-//!   is whole; after it, a frame over the same base as the one before
-//!   (`frame_image`) stores only the rectangle where the two can differ, the
-//!   union of their patches, drawn over the previous frame (dispose `None`,
-//!   blend `Source`), so a small body costs a small frame.
+//!   where a numerator up to 1000 gives it). The first frame is whole;
+//!   after it, each frame stores only the rectangle where it differs from
+//!   the one before, drawn over it (dispose `None`, blend `Source`), so a
+//!   small body costs a small frame.
 //! - MP4 (`video.mp4`): H.264 encoded in the process with OpenH264 from YUV
 //!   4:2:0 planes, muxed with the `mp4` crate (see [`Mp4Writer`]).
 //! - GIF (`video.gif`): the `gif` crate, one NeuQuant palette per frame.
 //!   Viewers treat GIF delays under 2/100 s as 1/10 s, so above 50 frames per
 //!   second the GIF keeps every n-th frame and plays at `fps / n`.
 
-use super::frame_image::{FrameBase, FrameImage, PixelRect};
-use super::frame_png::png_encoder;
-use super::image_file::png_error;
+use super::image_file::{png_encoder, png_error, push_rgb};
 use super::mp4_writer::Mp4Writer;
 use super::partial_file::PartialFile;
+use super::pixel_rect::PixelRect;
+use super::video_writer::{VideoSpec, VideoWriter, frame_delay};
 use super::{RenderError, VideoFormat};
+use image::RgbaImage;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -43,33 +43,9 @@ pub fn file_name(format: VideoFormat) -> &'static str {
     }
 }
 
-/// What every video writer needs to know.
-pub(crate) struct VideoSpec<'a> {
-    /// Final path of the video.
-    pub path: &'a Path,
-    /// Frame size in pixels.
-    pub width: u32,
-    /// Frame size in pixels.
-    pub height: u32,
-    /// Number of frames that will be pushed.
-    pub frame_count: usize,
-    /// Frames per second.
-    pub fps: f64,
-    /// Background colour, 8-bit sRGB (MP4 padding).
-    pub background: [u8; 3],
-}
-
-/// A video being written.
-pub(crate) trait VideoWriter: Send {
-    /// Appends the next frame.
-    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError>;
-    /// Completes the temporary file.
-    fn finish(self: Box<Self>) -> Result<(), RenderError>;
-}
-
 /// Opens a writer for `format`, writing to the temporary file of `partial`
 /// (whose final name is `spec.path`).
-pub(crate) fn open(
+pub(super) fn open(
     format: VideoFormat,
     spec: &VideoSpec<'_>,
     partial: &PartialFile,
@@ -87,34 +63,11 @@ fn create(partial: &PartialFile) -> Result<BufWriter<File>, RenderError> {
         .map(|file| BufWriter::with_capacity(1 << 20, file))
 }
 
-/// The frame delay `numerator / denominator` seconds closest to `1 / fps`.
-pub(crate) fn frame_delay(fps: f64) -> (u16, u16) {
-    let mut best = (1u16, fps.round().clamp(1.0, u16::MAX as f64) as u16);
-    let mut best_error = f64::INFINITY;
-    for numerator in 1..=1000u16 {
-        let denominator = (fps * numerator as f64).round();
-        if denominator < 1.0 || denominator > u16::MAX as f64 {
-            continue;
-        }
-        let error = (denominator / numerator as f64 - fps).abs();
-        if error < best_error - 1e-12 {
-            best = (numerator, denominator as u16);
-            best_error = error;
-        }
-        if error < 1e-9 {
-            break;
-        }
-    }
-    best
-}
-
 struct ApngWriter {
     path: PathBuf,
     writer: png::Writer<BufWriter<File>>,
-    size: (u32, u32),
-    /// The previous frame's base and the rectangle where it differed from
-    /// it; `None` before the first frame or after a whole one.
-    previous: Option<(Arc<FrameBase>, Option<PixelRect>)>,
+    /// The previous frame, `None` before the first.
+    previous: Option<Arc<RgbaImage>>,
     rgb: Vec<u8>,
 }
 
@@ -135,37 +88,53 @@ impl ApngWriter {
         Ok(Self {
             path: spec.path.to_owned(),
             writer,
-            size: (spec.width, spec.height),
             previous: None,
             rgb: Vec::new(),
         })
     }
+}
 
-    /// The rectangle of `frame` to store: where it can differ from the
-    /// previous frame, or the whole image.
-    fn region(&self, frame: &FrameImage) -> PixelRect {
-        let (width, height) = self.size;
-        let whole = PixelRect::new(0, 0, width, height);
-        match (&self.previous, frame.over_base()) {
-            (Some((previous_base, before)), Some((base, now)))
-                if Arc::ptr_eq(previous_base, base) =>
-            {
-                match (*before, now) {
-                    (Some(before), Some(now)) => before.union(&now),
-                    (Some(only), None) | (None, Some(only)) => only,
-                    // The same image again: one pixel, unchanged.
-                    (None, None) => PixelRect::new(0, 0, 1, 1),
-                }
-            }
-            _ => whole,
+/// The smallest rectangle holding every pixel where `now` differs from
+/// `before` (one unchanged pixel when none does).
+fn changed_rect(before: &RgbaImage, now: &RgbaImage) -> PixelRect {
+    let width = now.width() as usize;
+    let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+    let rows = before.as_raw().chunks_exact(width * 4);
+    for (y, (a, b)) in rows.zip(now.as_raw().chunks_exact(width * 4)).enumerate() {
+        if a == b {
+            continue;
         }
+        let pixels = || a.chunks_exact(4).zip(b.chunks_exact(4));
+        let first = pixels().position(|(p, q)| p != q).expect("the rows differ");
+        let last = width
+            - 1
+            - pixels()
+                .rev()
+                .position(|(p, q)| p != q)
+                .expect("they differ");
+        (x0, x1, y0, y1) = (x0.min(first), x1.max(last), y0.min(y), y);
     }
+    if y0 == usize::MAX {
+        return PixelRect::new(0, 0, 1, 1);
+    }
+    PixelRect::new(
+        x0 as u32,
+        y0 as u32,
+        (x1 - x0 + 1) as u32,
+        (y1 - y0 + 1) as u32,
+    )
 }
 
 impl VideoWriter for ApngWriter {
-    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
+    /// The first frame is stored whole; each later one as the rectangle
+    /// where it differs from the one before, drawn over it (dispose `None`,
+    /// blend `Source`), so a small moving body costs a small frame.
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let encode_error = |e: png::EncodingError| png_error(&self.path, e);
-        let region = self.region(frame);
+        let region = match &self.previous {
+            Some(previous) => changed_rect(previous, frame),
+            None => PixelRect::new(0, 0, frame.width(), frame.height()),
+        };
         // Back to the origin first, so that no intermediate rectangle leaves the image.
         self.writer.reset_frame_position().map_err(encode_error)?;
         self.writer
@@ -175,13 +144,19 @@ impl VideoWriter for ApngWriter {
             .set_frame_position(region.x, region.y)
             .map_err(encode_error)?;
         self.rgb.clear();
-        frame.push_rgb_rect(region, &mut self.rgb);
+        let columns = region.x as usize * 4..(region.x + region.width) as usize * 4;
+        for row in frame
+            .as_raw()
+            .chunks_exact(frame.width() as usize * 4)
+            .skip(region.y as usize)
+            .take(region.height as usize)
+        {
+            push_rgb(&row[columns.clone()], &mut self.rgb);
+        }
         self.writer
             .write_image_data(&self.rgb)
             .map_err(|e| png_error(&self.path, e))?;
-        self.previous = frame
-            .over_base()
-            .map(|(base, changed)| (base.clone(), changed));
+        self.previous = Some(frame.clone());
         Ok(())
     }
 
@@ -202,7 +177,6 @@ struct GifWriter {
     pushed: usize,
     written: usize,
     pixels: Vec<u8>,
-    scratch: Vec<u8>,
 }
 
 impl GifWriter {
@@ -233,22 +207,19 @@ impl GifWriter {
             pushed: 0,
             written: 0,
             pixels: Vec::new(),
-            scratch: Vec::new(),
         })
     }
 }
 
 impl VideoWriter for GifWriter {
-    fn push(&mut self, frame: &Arc<FrameImage>) -> Result<(), RenderError> {
+    fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let index = self.pushed;
         self.pushed += 1;
         if !index.is_multiple_of(self.stride) {
             return Ok(());
         }
         self.pixels.clear();
-        frame.for_each_rgba_span(&mut self.scratch, |span| {
-            self.pixels.extend_from_slice(span)
-        });
+        self.pixels.extend_from_slice(frame.as_raw());
         let mut gif_frame =
             gif::Frame::from_rgba_speed(self.width, self.height, &mut self.pixels, 10);
         // Delays in 1/100 s, rounded so that the total stays on time.
@@ -285,12 +256,12 @@ fn gif_error(path: &Path, error: gif::EncodingError) -> RenderError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::frame_image::{Patch, noise};
+    use crate::render::pixel_rect::{Patch, noise};
     use image::AnimationDecoder;
 
     /// Writes `frames` as an APNG and returns the frames a player shows,
     /// with the size of each stored rectangle.
-    fn through_apng(frames: &[FrameImage]) -> (Vec<image::RgbaImage>, Vec<(u32, u32)>) {
+    fn through_apng(frames: &[RgbaImage]) -> (Vec<image::RgbaImage>, Vec<(u32, u32)>) {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("video.png");
         let (width, height) = frames[0].dimensions();
@@ -334,43 +305,35 @@ mod tests {
     #[test]
     fn apng_frames_store_what_changed_and_show_whole_frames() {
         let (width, height) = (40, 30);
-        let base = FrameBase::new(noise(width, height, 1));
-        let other_base = FrameBase::new(noise(width, height, 2));
+        let base = noise(width, height, 1);
         let body = noise(width, height, 3);
-        let over = |base: &Arc<FrameBase>, rect: Option<PixelRect>| {
-            FrameImage::patched(base.clone(), rect.map(|rect| Patch::cut(&body, rect)))
+        let over = |rect: Option<PixelRect>| {
+            let mut image = base.clone();
+            if let Some(rect) = rect {
+                Patch::cut(&body, rect).paste_into(&mut image);
+            }
+            image
         };
         let frames = [
-            over(&base, Some(PixelRect::new(2, 3, 6, 5))),
-            // Moved: the union of both patches.
-            over(&base, Some(PixelRect::new(5, 4, 6, 5))),
-            // Left the image: the last patch's place, back to the base.
-            over(&base, None),
+            over(Some(PixelRect::new(2, 3, 6, 5))),
+            // Moved: the union of both places.
+            over(Some(PixelRect::new(5, 4, 6, 5))),
+            // Left the image: the last place, back to the base.
+            over(None),
             // Nothing changed: one pixel.
-            over(&base, None),
-            over(&base, Some(PixelRect::new(30, 20, 10, 10))),
-            // Another base, then a whole image: stored whole.
-            over(&other_base, Some(PixelRect::new(1, 1, 3, 3))),
-            FrameImage::from(noise(width, height, 4)),
-            over(&base, Some(PixelRect::new(0, 0, 1, 1))),
+            over(None),
+            over(Some(PixelRect::new(30, 20, 10, 10))),
+            // Everything changed: stored whole.
+            noise(width, height, 4),
         ];
         let (shown, stored) = through_apng(&frames);
         assert_eq!(
             stored,
-            [
-                (40, 30),
-                (9, 6),
-                (6, 5),
-                (1, 1),
-                (10, 10),
-                (40, 30),
-                (40, 30),
-                (40, 30)
-            ]
+            [(40, 30), (9, 6), (6, 5), (1, 1), (10, 10), (40, 30)]
         );
         assert_eq!(shown.len(), frames.len());
         for (i, (shown, frame)) in shown.iter().zip(&frames).enumerate() {
-            assert!(*shown == frame.to_rgba(), "frame {i} shows differently");
+            assert!(shown == frame, "frame {i} shows differently");
         }
     }
 

@@ -58,7 +58,7 @@ mod regression_stdout_write_panicked;
 mod regression_stvk_folded_inside_out;
 mod regression_sweep_overwrote_a_foreign_folder;
 mod regression_writes_outside_output_folder;
-mod render_devices;
+mod render_errors;
 mod render_export;
 mod render_image;
 mod render_pipeline;
