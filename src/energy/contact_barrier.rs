@@ -47,7 +47,7 @@ use super::{Blocker, EnergyTerm};
 use crate::assembly::SparseHessian;
 use crate::contact::ccd::CcdSettings;
 use crate::contact::{
-    CandidateFinder, CollisionMesh, ContactStencil, StencilEnergy, StencilKind,
+    CandidateFinder, CollisionFreeStep, CollisionMesh, ContactStencil, StencilEnergy, StencilKind,
     barrier_second_derivative, collision_free_step,
 };
 use crate::math::Vector;
@@ -316,6 +316,32 @@ fn scatter<const D: usize>(
     }
 }
 
+impl<const D: usize> ContactBarrier<D> {
+    /// The collision-free fraction of `x -> x + dx`: the stencils of the
+    /// swept segment (broad phase), then CCD on each, timed and counted.
+    /// The active set is that of the iterate, which the swept candidates no
+    /// longer index, so it is cleared.
+    fn swept_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> CollisionFreeStep {
+        let start = Instant::now();
+        self.finder.find(
+            &self.mesh,
+            x,
+            Some(dx),
+            self.settings.activation_distance,
+            self.settings.self_contact,
+            &mut self.stencils,
+        );
+        self.counters.broad_phase += start.elapsed();
+        let start = Instant::now();
+        let step = collision_free_step(&self.stencils, x, dx, &self.ccd);
+        self.counters.ccd += start.elapsed();
+        self.counters.ccd_budget_exhausted += step.budget_exhausted;
+        self.active.clear();
+        self.derivatives.clear();
+        step
+    }
+}
+
 impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
     fn name(&self) -> &'static str {
         "contact"
@@ -367,39 +393,11 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
     }
 
     fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
-        let start = Instant::now();
-        self.finder.find(
-            &self.mesh,
-            x,
-            Some(dx),
-            self.settings.activation_distance,
-            self.settings.self_contact,
-            &mut self.stencils,
-        );
-        self.counters.broad_phase += start.elapsed();
-        let start = Instant::now();
-        let step = collision_free_step(&self.stencils, x, dx, &self.ccd);
-        self.counters.ccd += start.elapsed();
-        self.counters.ccd_budget_exhausted += step.budget_exhausted;
-        // The active set is that of the iterate, which the swept candidates
-        // no longer index.
-        self.active.clear();
-        self.derivatives.clear();
-        step.step
+        self.swept_step(x, dx).step
     }
 
     fn blocker(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> Option<Blocker> {
-        self.finder.find(
-            &self.mesh,
-            x,
-            Some(dx),
-            self.settings.activation_distance,
-            self.settings.self_contact,
-            &mut self.stencils,
-        );
-        let step = collision_free_step(&self.stencils, x, dx, &self.ccd);
-        self.active.clear();
-        self.derivatives.clear();
+        let step = self.swept_step(x, dx);
         let stencil = step.limiting.filter(|_| !(step.step > 0.0))?;
         Some(Blocker::Pair {
             corners: stencil.vertices,
