@@ -39,7 +39,7 @@ fn set_up<const D: usize>(config: &SceneConfig<D>, input: SceneInput) -> Result<
     let mut energies: Vec<(&'static str, f64)> = energy.entries().collect();
     energies.push(("total", energy.total()));
     Ok(Setup {
-        barrier: sim.barrier_stiffness(),
+        barrier: sim.ground().map(|g| g.stiffness()),
         contact: sim.contact().map(|c| {
             (
                 c.activation_distance(),

@@ -5,7 +5,7 @@
 //! its key (exit code 2).
 
 use super::AppError;
-use crate::energy::GroundBarrier;
+use crate::energy::GROUND_STIFFNESS_RATIO;
 use crate::render::RenderSettings;
 use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource, approx, image_bytes, num};
 use crate::sim::Simulation;
@@ -31,11 +31,6 @@ impl SceneInput<'_> {
 /// triangle and 4-7 KB per tetrahedron (the sparse factorisation grows
 /// faster than the mesh in 3D).
 const SIMULATION_BYTES_PER_ELEMENT: [u64; 4] = [0, 0, 1024, 2048];
-
-/// Bounds on the barrier stiffness relative to the automatic one: beyond
-/// them the body stops at the barrier's edge with every step at the
-/// iteration cap, or comes within round-off of the ground.
-pub(crate) const KAPPA_RATIO: [f64; 2] = [1e-6, 1e6];
 
 /// Bytes the simulation of `config` takes at least.
 fn simulation_bytes<const D: usize>(config: &SceneConfig<D>) -> u64 {
@@ -170,28 +165,20 @@ pub(crate) fn check_image_size(
     }
 }
 
-/// A stiffness given in the scene must lie within [`KAPPA_RATIO`] of the
-/// automatic one for this body.
+/// A stiffness given in the scene must lie within [`GROUND_STIFFNESS_RATIO`]
+/// of the automatic one for this body.
 pub(crate) fn check_barrier_stiffness<const D: usize>(
     config: &SceneConfig<D>,
     sim: &Simulation<D>,
     input: SceneInput,
 ) -> Result<(), AppError> {
-    let Some(ground) = config.effects.ground else {
+    let Some(kappa) = config.effects.ground.and_then(|g| g.stiffness) else {
         return Ok(());
     };
-    let Some(kappa) = ground.stiffness else {
+    let Some(automatic) = sim.ground().map(|g| g.automatic_stiffness()) else {
         return Ok(());
     };
-    let automatic = GroundBarrier::default_stiffness(
-        ground.height,
-        ground.activation_distance,
-        sim.masses(),
-        sim.positions(),
-        sim.velocities(),
-        config.effects.gravity,
-    );
-    let [low, high] = KAPPA_RATIO.map(|r| r * automatic);
+    let [low, high] = GROUND_STIFFNESS_RATIO.map(|r| r * automatic);
     if !(kappa >= low && kappa <= high) {
         return Err(input.error(
             "effects.ground.kappa",

@@ -30,12 +30,19 @@ use crate::math::{Matrix, UP_AXIS, Vector};
 /// The fraction of the current gap a single line-search step may close at most.
 pub const CONTACT_STEP_FRACTION: f64 = 0.9;
 
+/// Bounds on a stiffness given in the scene relative to the automatic one:
+/// beyond them the body stops at the barrier's edge with every step at the
+/// iteration cap, or comes within round-off of the ground.
+pub const STIFFNESS_RATIO: [f64; 2] = [1e-6, 1e6];
+
 /// `kappa sum_i b(x_i[UP] - height)` over all vertices.
 #[derive(Debug, Clone)]
 pub struct GroundBarrier {
     height: f64,
     width: f64,
     stiffness: f64,
+    /// The default rule's stiffness for the bodies it was built for.
+    automatic_stiffness: f64,
 }
 
 impl GroundBarrier {
@@ -45,12 +52,80 @@ impl GroundBarrier {
             height,
             width,
             stiffness,
+            automatic_stiffness: stiffness,
+        }
+    }
+
+    /// The barrier for bodies with `masses` at `positions` moving with
+    /// `velocities` under `gravity`: with the stiffness `fixed` when the
+    /// scene gives one, else by the default rule.
+    pub fn for_bodies<const D: usize>(
+        height: f64,
+        width: f64,
+        fixed: Option<f64>,
+        masses: &[f64],
+        positions: &[Vector<D>],
+        velocities: &[Vector<D>],
+        gravity: Option<Vector<D>>,
+    ) -> Self {
+        let automatic_stiffness =
+            Self::default_stiffness(height, width, masses, positions, velocities, gravity);
+        Self {
+            height,
+            width,
+            stiffness: fixed.unwrap_or(automatic_stiffness),
+            automatic_stiffness,
         }
     }
 
     /// The stiffness `kappa` in use.
     pub fn stiffness(&self) -> f64 {
         self.stiffness
+    }
+
+    /// The stiffness the default rule gives the bodies this barrier was
+    /// built for (the one in use unless the scene fixes it).
+    pub fn automatic_stiffness(&self) -> f64 {
+        self.automatic_stiffness
+    }
+
+    /// The plane's height.
+    pub fn height(&self) -> f64 {
+        self.height
+    }
+
+    /// The barrier's width `a`: it acts on vertices closer than this.
+    pub fn width(&self) -> f64 {
+        self.width
+    }
+
+    /// The lowest vertex's height above the plane (`+inf` for no vertex).
+    pub fn min_height<const D: usize>(&self, x: &[Vector<D>]) -> f64 {
+        x.iter()
+            .map(|xi| self.gap(xi))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The first vertex on or below the plane, with its height.
+    pub fn first_vertex_below<const D: usize>(&self, x: &[Vector<D>]) -> Option<(usize, f64)> {
+        x.iter()
+            .position(|xi| !(self.gap(xi) > 0.0))
+            .map(|v| (v, x[v][UP_AXIS]))
+    }
+
+    /// Why a vertex whose position is prescribed cannot be at `target`
+    /// (on or below the plane: no solve can lift it off), or `None`.
+    pub fn prescribed_position_problem<const D: usize>(
+        &self,
+        vertex: usize,
+        target: &Vector<D>,
+    ) -> Option<String> {
+        (!(self.gap(target) > 0.0)).then(|| {
+            format!(
+                "puts vertex {vertex} at height {}, on or below the ground at {}",
+                target[UP_AXIS], self.height
+            )
+        })
     }
 
     /// The default `kappa` for a body with `masses` at `positions` moving with

@@ -45,7 +45,7 @@ pub use elasticity::Elasticity;
 pub(crate) use elasticity::PARALLEL_MIN_ELEMENTS;
 pub use element_field::ElementField;
 pub use gravity::Gravity;
-pub use ground_barrier::GroundBarrier;
+pub use ground_barrier::{GroundBarrier, STIFFNESS_RATIO as GROUND_STIFFNESS_RATIO};
 pub use inertia::Inertia;
 pub use prescribed_motion::PrescribedMotion;
 

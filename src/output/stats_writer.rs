@@ -69,8 +69,9 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// tolerance; `assembly_ms`, `factorisation_ms`, `solve_ms` (the triangular
 /// solves), `line_search_ms`: the wall time of each solver phase;
 /// `min_distance`: the smallest distance between two surface primitives
-/// closer than the contact distance `d_hat` at the frame's end (empty when
-/// no pair is that close, or without `[effects.contact]`); `contact_pairs`:
+/// closer than the contact distance `d_hat`, or of a vertex closer to the
+/// ground than its barrier width `a`, at the frame's end (empty when
+/// nothing is that close, or without `[effects.contact]`); `contact_pairs`:
 /// the contact stencils within `d_hat` at the last Newton iterate;
 /// `broad_phase_ms`, `ccd_ms`: wall time finding candidate pairs and in
 /// continuous collision detection; `ccd_budget_exhausted`: CCD queries that

@@ -2,9 +2,11 @@
 
 use super::{ContactStats, EnergyBreakdown, FrameStats, PinMotion, SimulationSettings};
 use crate::assembly::SparseHessian;
-use crate::energy::{BodyElasticity, ContactBarrier, ElementField, EnergyTerm, Inertia};
+use crate::energy::{
+    BodyElasticity, ContactBarrier, ElementField, EnergyTerm, GroundBarrier, Inertia,
+};
 use crate::integrator::TimeIntegrator;
-use crate::math::{UP_AXIS, Vector};
+use crate::math::Vector;
 use crate::mesh::Mesh;
 use std::sync::Arc;
 
@@ -24,13 +26,14 @@ pub struct Simulation<const D: usize> {
     pub(super) inertia: Inertia<D>,
     /// The strain energy of every body: always present.
     pub(super) elasticity: BodyElasticity<D>,
-    /// The potential terms of the scene's effects (gravity, ground, ...), in order.
+    /// The potential terms of the scene's effects that act on every vertex
+    /// alike (gravity), in order.
     pub(super) effect_terms: Vec<Box<dyn EnergyTerm<D>>>,
+    /// Contact with the ground (`None` without `[effects.ground]`).
+    pub(super) ground: Option<GroundBarrier>,
     pub(super) integrator: Box<dyn TimeIntegrator<D>>,
     /// Contact between and within bodies (`None` without `[effects.contact]`).
     pub(super) contact: Option<ContactBarrier<D>>,
-    pub(super) barrier_stiffness: Option<f64>,
-    pub(super) ground_height: Option<f64>,
     pub(super) hessian: SparseHessian<D>,
     /// The Hessian whose unknowns include the vertices of the moving
     /// regions, for steps that pull them onto their path within the solve
@@ -106,9 +109,9 @@ impl<const D: usize> Simulation<D> {
         !self.motions.iter().any(|m| m.is_moving())
     }
 
-    /// The ground barrier stiffness in use (`None` without a ground).
-    pub fn barrier_stiffness(&self) -> Option<f64> {
-        self.barrier_stiffness
+    /// The ground's barrier (`None` without `[effects.ground]`).
+    pub fn ground(&self) -> Option<&GroundBarrier> {
+        self.ground.as_ref()
     }
 
     /// Which vertices are unknowns (`Some(index)`) and which are pinned (`None`).
@@ -117,12 +120,30 @@ impl<const D: usize> Simulation<D> {
     }
 
     /// The potential terms this scene has (elasticity first, then its
-    /// effects, the contact barrier last).
+    /// effects, the ground, the contact barrier last).
     pub fn potentials(&self) -> Vec<&dyn EnergyTerm<D>> {
         std::iter::once(&self.elasticity as &dyn EnergyTerm<D>)
             .chain(self.effect_terms.iter().map(|t| t.as_ref()))
+            .chain(self.ground.iter().map(|g| g as &dyn EnergyTerm<D>))
             .chain(self.contact.iter().map(|c| c as &dyn EnergyTerm<D>))
             .collect()
+    }
+
+    /// The potential terms other than the elasticity, mutably, in the
+    /// order of [`Self::potentials`].
+    pub(super) fn effect_terms_mut(&mut self) -> Vec<&mut dyn EnergyTerm<D>> {
+        let mut terms: Vec<&mut dyn EnergyTerm<D>> = self
+            .effect_terms
+            .iter_mut()
+            .map(|t| t.as_mut() as &mut dyn EnergyTerm<D>)
+            .collect();
+        if let Some(ground) = &mut self.ground {
+            terms.push(ground);
+        }
+        if let Some(contact) = &mut self.contact {
+            terms.push(contact);
+        }
+        terms
     }
 
     /// The contact term (`None` without `[effects.contact]`).
@@ -165,26 +186,36 @@ impl<const D: usize> Simulation<D> {
             damped_steps: 0,
             blocked_by: None,
             boundary_error: self.motions.iter().any(|m| m.is_moving()).then_some(0.0),
-            contact: self.contact.as_ref().map(|c| {
-                let (min_distance, active_pairs) = c.proximity(&self.positions);
-                ContactStats {
-                    min_distance,
-                    active_pairs,
-                    ..Default::default()
-                }
-            }),
+            contact: self.contact_stats(),
             energy: self.energies(),
             centre_of_mass,
-            min_height: self.ground_height.map(|h| {
-                self.positions
-                    .iter()
-                    .map(|x| x[UP_AXIS] - h)
-                    .fold(f64::INFINITY, f64::min)
-            }),
+            min_height: self.ground.as_ref().map(|g| g.min_height(&self.positions)),
             min_volume_ratio: self.elasticity.min_volume_ratio(&self.positions),
             times: Default::default(),
             wall_time: Default::default(),
         }
+    }
+
+    /// Contact's measures at the current state (`None` without
+    /// `[effects.contact]`): the smallest distance among the pairs of
+    /// surface primitives within `d_hat` and the vertices within the
+    /// ground's barrier width, and the number of active pairs.
+    fn contact_stats(&self) -> Option<ContactStats> {
+        let contact = self.contact.as_ref()?;
+        let (pair_distance, active_pairs) = contact.proximity(&self.positions);
+        let ground_distance = self.ground.as_ref().and_then(|g| {
+            let height = g.min_height(&self.positions);
+            (height < g.width()).then_some(height)
+        });
+        let min_distance = match (pair_distance, ground_distance) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        };
+        Some(ContactStats {
+            min_distance,
+            active_pairs,
+            ..Default::default()
+        })
     }
 
     /// Physical energies of the current state: kinetic, and each potential

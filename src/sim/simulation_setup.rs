@@ -20,7 +20,7 @@ use crate::energy::{
     BodyElasticity, ContactBarrier, ContactSettings, EnergyTerm, Gravity, GroundBarrier, Inertia,
 };
 use crate::material::Material;
-use crate::math::{UP_AXIS, Vector};
+use crate::math::Vector;
 use crate::mesh::Mesh;
 use crate::solver::SolverMethod;
 use std::sync::Arc;
@@ -244,52 +244,16 @@ impl<const D: usize> Simulation<D> {
         if let Some(g) = effects.gravity {
             effect_terms.push(Box::new(Gravity::new(masses.clone(), g)));
         }
-        let mut barrier_stiffness = None;
-        if let Some(ground) = effects.ground {
-            if !(ground.activation_distance > 0.0 && ground.activation_distance.is_finite()) {
-                return Err(invalid(
-                    "a",
-                    format!(
-                        "the barrier width must be positive, got {}",
-                        ground.activation_distance
-                    ),
-                ));
-            }
-            if let Some((vertex, x)) = positions
-                .iter()
-                .enumerate()
-                .find(|(_, x)| !(x[UP_AXIS] > ground.height))
-            {
-                return Err(SimError::BelowGround {
-                    vertex,
-                    height: x[UP_AXIS],
-                    ground: ground.height,
-                });
-            }
-            let stiffness = match ground.stiffness {
-                Some(kappa) if kappa > 0.0 && kappa.is_finite() => kappa,
-                Some(kappa) => {
-                    return Err(invalid(
-                        "kappa",
-                        format!("must be positive and finite, got {kappa}"),
-                    ));
-                }
-                None => GroundBarrier::default_stiffness(
-                    ground.height,
-                    ground.activation_distance,
-                    &masses,
-                    &positions,
-                    &velocities,
-                    effects.gravity,
-                ),
-            };
-            effect_terms.push(Box::new(GroundBarrier::new(
-                ground.height,
-                ground.activation_distance,
-                stiffness,
-            )));
-            barrier_stiffness = Some(stiffness);
-        }
+        let ground = match effects.ground {
+            Some(ground) => Some(ground_barrier(
+                ground,
+                &masses,
+                &positions,
+                &velocities,
+                effects.gravity,
+            )?),
+            None => None,
+        };
         let contact = match effects.contact {
             Some(contact) => Some(contact_barrier(
                 &mesh, &owner, &masses, &positions, contact,
@@ -303,6 +267,9 @@ impl<const D: usize> Simulation<D> {
         let mut integrator = settings.integrator.build(positions.len());
         let mut potentials: Vec<&dyn EnergyTerm<D>> =
             effect_terms.iter().map(|t| t.as_ref()).collect();
+        if let Some(ground) = &ground {
+            potentials.push(ground);
+        }
         if let Some(contact) = &contact {
             potentials.push(contact);
         }
@@ -319,8 +286,7 @@ impl<const D: usize> Simulation<D> {
             effect_terms,
             integrator,
             contact,
-            barrier_stiffness,
-            ground_height: effects.ground.map(|g| g.height),
+            ground,
             mesh,
             masses,
             positions,
@@ -335,6 +301,51 @@ impl<const D: usize> Simulation<D> {
             pinned,
         })
     }
+}
+
+/// The ground's barrier for the bodies' vertices at `positions` (none on or
+/// below the plane) with their `masses` and `velocities`.
+fn ground_barrier<const D: usize>(
+    ground: super::Ground,
+    masses: &[f64],
+    positions: &[Vector<D>],
+    velocities: &[Vector<D>],
+    gravity: Option<Vector<D>>,
+) -> Result<GroundBarrier, SimError> {
+    if !(ground.activation_distance > 0.0 && ground.activation_distance.is_finite()) {
+        return Err(invalid(
+            "a",
+            format!(
+                "the barrier width must be positive, got {}",
+                ground.activation_distance
+            ),
+        ));
+    }
+    if let Some(kappa) = ground.stiffness
+        && !(kappa > 0.0 && kappa.is_finite())
+    {
+        return Err(invalid(
+            "kappa",
+            format!("must be positive and finite, got {kappa}"),
+        ));
+    }
+    let barrier = GroundBarrier::for_bodies(
+        ground.height,
+        ground.activation_distance,
+        ground.stiffness,
+        masses,
+        positions,
+        velocities,
+        gravity,
+    );
+    if let Some((vertex, height)) = barrier.first_vertex_below(positions) {
+        return Err(SimError::BelowGround {
+            vertex,
+            height,
+            ground: ground.height,
+        });
+    }
+    Ok(barrier)
 }
 
 /// The contact term of the bodies (vertex `v` of body `owner[v]`) at their

@@ -3,7 +3,7 @@
 use super::{FrameStats, SimError, Simulation, StepStats};
 use crate::energy::{EnergyTerm, PARALLEL_MIN_ELEMENTS, PrescribedMotion};
 use crate::integrator::TimeIntegrator;
-use crate::math::{UP_AXIS, Vector};
+use crate::math::Vector;
 use crate::solver::{Objective, SolveError, SolverMethod, SolverStats, gradient_descent, newton};
 use std::time::Instant;
 
@@ -131,11 +131,9 @@ impl<const D: usize> Simulation<D> {
         };
         self.elasticity
             .begin_step(&self.positions, &self.velocities);
-        for term in &mut self.effect_terms {
-            term.begin_step(&self.positions, &self.velocities);
-        }
-        if let Some(contact) = &mut self.contact {
-            contact.begin_step(&self.positions, &self.velocities);
+        let (x, v) = (self.positions.clone(), self.velocities.clone());
+        for term in self.effect_terms_mut() {
+            term.begin_step(&x, &v);
         }
         self.inertia.set_prediction(self.integrator.predicted());
         let weight = self.integrator.potential_weight(dt);
@@ -188,6 +186,9 @@ impl<const D: usize> Simulation<D> {
                 .iter_mut()
                 .map(|t| (t.as_mut() as &mut dyn EnergyTerm<D>, weight)),
         );
+        if let Some(ground) = &mut self.ground {
+            terms.push((ground, weight));
+        }
         if let Some(contact) = &mut self.contact {
             terms.push((contact, weight));
         }
@@ -310,12 +311,10 @@ impl<const D: usize> Simulation<D> {
     /// (elements kept from inverting where the material forbids it, the
     /// ground and other surfaces not reached).
     fn feasible_fraction(&mut self, direction: &[Vector<D>]) -> f64 {
-        let mut cap = self.elasticity.max_step(&self.positions, direction);
-        for term in &mut self.effect_terms {
-            cap = cap.min(term.max_step(&self.positions, direction));
-        }
-        if let Some(contact) = &mut self.contact {
-            cap = cap.min(contact.max_step(&self.positions, direction));
+        let x = self.positions.clone();
+        let mut cap = self.elasticity.max_step(&x, direction);
+        for term in self.effect_terms_mut() {
+            cap = cap.min(term.max_step(&x, direction));
         }
         cap
     }
@@ -399,14 +398,14 @@ impl<const D: usize> Simulation<D> {
         let mut displacement = 0.0f64;
         for p in self.pinned.iter().filter(|p| moving[p.motion]) {
             let target = self.motions[p.motion].position(&p.rest, t);
-            if let Some(ground) = self.ground_height
-                && !(target[UP_AXIS] > ground)
+            if let Some(problem) = self
+                .ground
+                .as_ref()
+                .and_then(|g| g.prescribed_position_problem(p.vertex, &target))
             {
                 return Err(format!(
-                    "the prescribed motion of the pinned vertices puts vertex {} at height {} \
-                     at t = {t:.6} s, on or below the ground at {ground}: a pinned region must \
-                     not be driven into the ground",
-                    p.vertex, target[UP_AXIS]
+                    "the prescribed motion of the pinned vertices {problem} at t = {t:.6} s: \
+                     a pinned region must not be driven into the ground"
                 ));
             }
             direction[p.vertex] = target - self.positions[p.vertex];

@@ -165,6 +165,10 @@ fn check_contact_scene(scene: &str) {
         .map(|c| c.parse::<usize>().unwrap())
         .sum();
     assert!(reanalyses > 0);
+    // Every recorded distance is positive and within the larger reach
+    // (the ground's a = 0.02; the pairs' d_hat = 0.005), and the ground
+    // counts: where the lowest vertex is within a, min_distance is at
+    // most its height.
     let distances: Vec<f64> = column(&header, &rows, "min_distance")
         .iter()
         .filter(|c| !c.is_empty())
@@ -172,8 +176,27 @@ fn check_contact_scene(scene: &str) {
         .collect();
     assert!(!distances.is_empty());
     assert!(
-        distances.iter().all(|&d| d > 0.0 && d < 0.005),
+        distances.iter().all(|&d| d > 0.0 && d < 0.02),
         "{distances:?}"
+    );
+    let heights = column(&header, &rows, "min_height");
+    let mut near_ground = 0;
+    for (height, distance) in heights.iter().zip(column(&header, &rows, "min_distance")) {
+        let height: f64 = height.parse().unwrap();
+        if height < 0.02 {
+            near_ground += 1;
+            let distance: f64 = distance
+                .parse()
+                .expect("min_distance empty near the ground");
+            assert!(
+                distance <= height,
+                "min_distance {distance} above min_height {height}"
+            );
+        }
+    }
+    assert!(
+        near_ground > 0,
+        "the lower box never came within a of the ground"
     );
     let stalled: usize = column(&header, &rows, "stalled_steps")
         .iter()

@@ -98,12 +98,12 @@ fn a_scene_without_ground_has_no_contact_term() {
     let without = falling_box(SolverSettings::default(), false);
     let names: Vec<&str> = without.potentials().iter().map(|t| t.name()).collect();
     assert_eq!(names, ["elastic", "gravity"]);
-    assert_eq!(without.barrier_stiffness(), None);
+    assert_eq!(without.ground().map(|g| g.stiffness()), None);
     assert_eq!(without.frame_stats().min_height, None);
     let with = falling_box(SolverSettings::default(), true);
     let names: Vec<&str> = with.potentials().iter().map(|t| t.name()).collect();
     assert_eq!(names, ["elastic", "gravity", "barrier"]);
-    assert!(with.barrier_stiffness().unwrap() > 0.0);
+    assert!(with.ground().unwrap().stiffness() > 0.0);
 }
 
 #[test]
