@@ -16,7 +16,9 @@
 //!    puts it on a stencil with a PSD-projected Hessian.
 //! 5. [`ccd`] and [`collision_free_step`]: additive continuous collision
 //!    detection, which caps the line search so that no pair ever touches.
-//! 6. [`first_surface_crossing`]: surfaces that cross, for the check that a
+//! 6. [`friction`]: lagged smoothed Coulomb friction on a stencil frozen
+//!    at a step's start (its slip, potential, gradient and Hessian).
+//! 7. [`first_surface_crossing`]: surfaces that cross, for the check that a
 //!    scene does not start intersecting.
 //!
 //! The energy term that sums the barrier over the active stencils, with its
@@ -33,6 +35,7 @@ pub mod ccd;
 mod collision_free_step;
 mod collision_mesh;
 pub mod distance;
+pub mod friction;
 mod stencil;
 mod surface_crossing;
 

@@ -97,7 +97,7 @@ pub mod primitives;
 #[cfg(test)]
 mod ipctk_reference;
 #[cfg(test)]
-mod test_support;
+pub(crate) mod test_support;
 
 pub use edge_edge::{
     EdgeEdgeDistanceType, edge_edge_closest_parameters, edge_edge_distance_squared,
