@@ -91,6 +91,7 @@ fn bench<const D: usize>(cells: [usize; D]) -> usize {
             height: 0.0,
             activation_distance: 0.1,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: Vec::new(),

@@ -151,6 +151,7 @@ fn step_allocations(cells: usize) -> (usize, usize) {
             height: -0.02,
             activation_distance: 0.05,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: Vec::new(),

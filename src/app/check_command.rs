@@ -2,6 +2,7 @@
 
 use super::cli::CheckArgs;
 use super::{AppError, SceneInput, build_simulation, scene_overrides};
+use crate::energy::FrictionSettings;
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
 use crate::solver::SolverMethod;
 use std::fmt::Write as _;
@@ -28,6 +29,7 @@ struct Setup {
     barrier: Option<f64>,
     /// `d_hat`, the stiffness before the first step, and whether it adapts.
     contact: Option<(f64, f64, bool, bool)>,
+    friction: Option<FrictionSettings>,
     energies: Vec<(&'static str, f64)>,
 }
 
@@ -48,6 +50,7 @@ fn set_up<const D: usize>(config: &SceneConfig<D>, input: SceneInput) -> Result<
                 config.effects.contact.is_some_and(|c| c.self_contact),
             )
         }),
+        friction: sim.friction().map(|f| f.settings()),
         energies,
     })
 }
@@ -132,6 +135,17 @@ fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
             "  contact         d_hat = {distance}, stiffness kappa = {kappa:.6e} ({rule}), \
              self-contact {}",
             if self_contact { "on" } else { "off" }
+        );
+    }
+    if let Some(friction) = setup.friction {
+        let _ = writeln!(
+            s,
+            "  friction        mu = {} against the ground, {} between bodies, \
+             velocity threshold eps_v = {} (length/s), {} solve(s) per step",
+            friction.ground,
+            friction.contact,
+            friction.velocity_threshold,
+            solver.friction_iterations
         );
     }
     let _ = writeln!(

@@ -277,10 +277,11 @@ fn run_scene<const D: usize>(
                     writer.write_frame(frame, sim.positions(), shown)?;
                 }
                 if let Some(writer) = &mut meshes {
-                    let forces = sim.contact_forces();
-                    let point_vectors: Vec<(&str, &[_])> = forces
+                    let (contact, friction) = (sim.contact_forces(), sim.friction_forces());
+                    let point_vectors: Vec<(&str, &[_])> = contact
                         .iter()
                         .map(|f| ("contact_force", f.as_slice()))
+                        .chain(friction.iter().map(|f| ("friction_force", f.as_slice())))
                         .collect();
                     writer.write_frame(
                         frame,

@@ -10,7 +10,10 @@
 //! pinned region that moves, so nothing does work on the bodies) the total
 //! energy must not rise: a frame whose total energy is above frame 0's by
 //! more than [`ENERGY_RISE_LIMIT`] of frame 0's energies (the sum of their
-//! magnitudes) is a failure, the integrator having created energy. [`RunHealth`]
+//! magnitudes) is a failure, the integrator having created energy; with
+//! friction the work it took out counts as energy the bodies still have
+//! (so the check holds the friction to account too), and the summary says
+//! how much of the energy lost friction took. [`RunHealth`]
 //! gathers these from every output frame's statistics; when any occurred,
 //! `run` prints its one-line summary on stderr, and `--strict` makes it a
 //! failure (exit code 1).
@@ -50,6 +53,9 @@ pub struct RunHealth {
     /// Smallest distance between surface primitives in contact range over
     /// all frames, and its frame (`None` while no pair came within `d_hat`).
     closest_contact: Option<(f64, usize)>,
+    /// The last frame's total energy and the work friction had taken out by
+    /// then (`None` without friction).
+    friction: Option<(f64, f64)>,
 }
 
 impl RunHealth {
@@ -69,6 +75,7 @@ impl RunHealth {
             energy_rise: None,
             lowest_gap: None,
             closest_contact: None,
+            friction: None,
         }
     }
 
@@ -91,7 +98,12 @@ impl RunHealth {
         if let Some(distance) = stats.contact.and_then(|c| c.min_distance) {
             self.closest_contact = lower(self.closest_contact, distance);
         }
-        let total = stats.energy.total();
+        // Friction's work is energy the bodies had: with it, the total must
+        // not rise either.
+        let total = stats.energy.total() + stats.friction_dissipated.unwrap_or(0.0);
+        self.friction = stats
+            .friction_dissipated
+            .map(|work| (stats.energy.total(), work));
         match self.start_energy {
             None => {
                 let magnitude = stats.energy.entries().map(|(_, e)| e.abs()).sum();
@@ -110,10 +122,15 @@ impl RunHealth {
     /// (a closed scene only), and the sentence that says so.
     pub fn energy_rise(&self) -> Option<(usize, String)> {
         let ((total, frame), (start, _)) = self.energy_rise.zip(self.start_energy)?;
+        let what = if self.friction.is_some() {
+            "total energy plus friction's work"
+        } else {
+            "total energy"
+        };
         Some((
             frame,
             format!(
-                "total energy {} at frame {frame}, above frame 0's {} by more than {}%: \
+                "{what} {} at frame {frame}, above frame 0's {} by more than {}%: \
                  the integrator created energy",
                 approx(total),
                 approx(start),
@@ -202,6 +219,13 @@ impl RunHealth {
                 approx(distance)
             ));
         }
+        if let (Some((last, work)), Some((start, _))) = (self.friction, self.start_energy) {
+            parts.push(format!(
+                "friction took out {} of the {} of energy lost since frame 0",
+                approx(work),
+                approx(start - last)
+            ));
+        }
         if let Some((_, rise)) = self.energy_rise() {
             parts.push(rise);
         }
@@ -229,6 +253,7 @@ mod tests {
             blocked_by: None,
             boundary_error: None,
             contact: None,
+            friction_dissipated: None,
             energy: EnergyBreakdown::default(),
             centre_of_mass: Vector::<2>::zeros(),
             min_height: gap,
@@ -369,6 +394,34 @@ mod tests {
         nan.add(0, 0, &with_energy(frame(0, 1.0, None), 8.0, 2.0));
         nan.add(1, 10, &with_energy(frame(0, 1.0, None), f64::NAN, 2.0));
         assert!(nan.has_problems());
+        // Friction's work counts: 10 lost, of which friction took 9.95, is
+        // healthy and said; taking out 10.2 would be a rise.
+        let with_friction = |work: f64| {
+            let mut stats = with_energy(frame(0, 1.0, None), 0.0, 0.0);
+            stats.friction_dissipated = Some(work);
+            stats
+        };
+        let mut sliding = RunHealth::new(false, true);
+        sliding.add(0, 0, &with_energy(frame(0, 1.0, None), 8.0, 2.0));
+        sliding.add(1, 10, &with_friction(9.95));
+        assert!(!sliding.has_problems(), "{}", sliding.summary(50));
+        assert!(
+            sliding
+                .summary(50)
+                .ends_with("friction took out 9.95 of the 10 of energy lost since frame 0"),
+            "{}",
+            sliding.summary(50)
+        );
+        sliding.add(2, 10, &with_friction(10.2));
+        assert!(sliding.has_problems());
+        assert!(
+            sliding.energy_rise().is_some_and(
+                |(f, s)| f == 2 && s.starts_with("total energy plus friction's work 10.2")
+            ),
+            "{:?}",
+            sliding.energy_rise()
+        );
+
         let mut driven = RunHealth::new(false, false);
         driven.add(0, 0, &with_energy(frame(0, 1.0, None), 8.0, 2.0));
         driven.add(1, 10, &with_energy(frame(0, 1.0, None), 80.0, 2.0));

@@ -137,34 +137,51 @@ pub struct FrictionDerivatives<const D: usize> {
 }
 
 impl<const D: usize> FrictionStencil<D> {
-    /// A vertex against a fixed plane of unit `normal` (the ground).
-    pub fn vertex_on_plane(vertex: usize, x: &[Vector<D>], normal: Vector<D>, force: f64) -> Self {
+    /// A vertex against a fixed plane of unit `normal` (the ground), its
+    /// slip measured from its position `x_start` at the step's start.
+    pub fn vertex_on_plane(
+        vertex: usize,
+        x_start: &[Vector<D>],
+        normal: Vector<D>,
+        force: f64,
+    ) -> Self {
         Self {
             vertices: [vertex, 0, 0, 0],
             count: 1,
             weights: [1.0, 0.0, 0.0, 0.0],
             normal,
-            start: x[vertex],
+            start: x_start[vertex],
             force,
         }
     }
 
-    /// The stencil of contact pair `stencil` at the step's start `x`, with
-    /// the friction force `force = mu lambda`; `None` for primitives that
-    /// touch (no normal).
-    pub fn of_contact(stencil: &ContactStencil, x: &[Vector<D>], force: f64) -> Option<Self> {
-        let weights = closest_point_weights(stencil, x);
-        let mut start = Vector::<D>::zeros();
-        for (w, &v) in weights.iter().zip(stencil.corners()) {
-            start += x[v] * *w;
-        }
-        let length = start.norm();
+    /// The stencil of contact pair `stencil` with its closest points and
+    /// normal taken at the lagged state `lagged`, its slip measured from the
+    /// step's start `x_start` (the same state, unless an outer friction pass
+    /// lags it again at a solution), and the friction force
+    /// `force = mu lambda`; `None` for primitives that touch (no normal).
+    pub fn of_contact(
+        stencil: &ContactStencil,
+        lagged: &[Vector<D>],
+        x_start: &[Vector<D>],
+        force: f64,
+    ) -> Option<Self> {
+        let weights = closest_point_weights(stencil, lagged);
+        let relative = |x: &[Vector<D>]| {
+            let mut r = Vector::<D>::zeros();
+            for (w, &v) in weights.iter().zip(stencil.corners()) {
+                r += x[v] * *w;
+            }
+            r
+        };
+        let separation = relative(lagged);
+        let length = separation.norm();
         (length > 0.0).then(|| Self {
             vertices: stencil.vertices,
             count: stencil.vertex_count(),
             weights,
-            normal: start / length,
-            start,
+            normal: separation / length,
+            start: relative(x_start),
             force,
         })
     }

@@ -46,6 +46,7 @@
 use super::{Blocker, EnergyTerm};
 use crate::assembly::SparseHessian;
 use crate::contact::ccd::CcdSettings;
+use crate::contact::friction::{FrictionStencil, normal_force};
 use crate::contact::{
     CandidateFinder, CollisionFreeStep, CollisionMesh, ContactStencil, StencilEnergy, StencilKind,
     barrier_second_derivative, collision_free_step,
@@ -267,6 +268,32 @@ impl<const D: usize> ContactBarrier<D> {
         } else {
             min
         };
+    }
+
+    /// The friction stencils of the stencils active at the lagged state
+    /// `lagged` (found there), each with `mu` times its normal force
+    /// `kappa |dB / dd|` there, their slip measured from `x_start`,
+    /// appended to `out`. The candidates then cover `lagged`, as after an
+    /// iteration's search.
+    pub fn friction_stencils(
+        &mut self,
+        lagged: &[Vector<D>],
+        x_start: &[Vector<D>],
+        mu: f64,
+        out: &mut Vec<FrictionStencil<D>>,
+    ) {
+        self.find_active(lagged);
+        self.derivatives.clear();
+        for &k in &self.active {
+            let stencil = &self.stencils[k];
+            let force = normal_force(stencil, lagged, self.squared_activation, self.stiffness);
+            if force > 0.0
+                && let Some(friction) =
+                    FrictionStencil::of_contact(stencil, lagged, x_start, mu * force)
+            {
+                out.push(friction);
+            }
+        }
     }
 
     /// Adds `scale * grad B` (without `kappa`) over every candidate.

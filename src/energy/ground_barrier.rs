@@ -24,6 +24,7 @@
 
 use super::{Blocker, EnergyTerm};
 use crate::assembly::SparseHessian;
+use crate::contact::friction::FrictionStencil;
 use crate::contact::{barrier, barrier_derivative, barrier_second_derivative};
 use crate::math::{Matrix, UP_AXIS, Vector};
 
@@ -104,6 +105,33 @@ impl GroundBarrier {
         x.iter()
             .map(|xi| self.gap(xi))
             .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The friction stencils of the vertices within the barrier's width at
+    /// the lagged state `lagged` (each with `mu` times the barrier's push
+    /// `kappa |b'(d)|` there, the normal up), their slip measured from
+    /// `x_start`, appended to `out`.
+    pub fn friction_stencils<const D: usize>(
+        &self,
+        lagged: &[Vector<D>],
+        x_start: &[Vector<D>],
+        mu: f64,
+        out: &mut Vec<FrictionStencil<D>>,
+    ) {
+        let mut up = Vector::<D>::zeros();
+        up[UP_AXIS] = 1.0;
+        for (vertex, xi) in lagged.iter().enumerate() {
+            let d = self.gap(xi);
+            if d > 0.0 && d < self.width {
+                let push = -self.stiffness * barrier_derivative(d, self.width);
+                out.push(FrictionStencil::vertex_on_plane(
+                    vertex,
+                    x_start,
+                    up,
+                    mu * push,
+                ));
+            }
+        }
     }
 
     /// The first vertex on or below the plane, with its height.

@@ -2,7 +2,8 @@
 //!
 //! A time step minimises `E(x) = 1/2 |x - x~|_M^2 + w sum_k U_k(x)`
 //! ([`Inertia`] plus the potential terms a scene asks for: [`Elasticity`],
-//! [`Gravity`], [`GroundBarrier`]), where the time integrator chooses the
+//! [`Gravity`], [`GroundBarrier`], [`ContactBarrier`], and the dissipative
+//! [`Friction`], which is in the objective but stores no energy), where the time integrator chooses the
 //! prediction `x~` and the weight `w` (`dt^2` for backward Euler). Only the
 //! terms a scene asks for are built, so an absent effect costs nothing: no
 //! flag is checked inside a hot loop.
@@ -34,6 +35,7 @@ mod contact_barrier;
 mod elasticity;
 mod element_derivatives;
 mod element_field;
+mod friction;
 mod gravity;
 mod ground_barrier;
 mod inertia;
@@ -44,6 +46,7 @@ pub use contact_barrier::{ContactBarrier, ContactCounters, ContactSettings};
 pub use elasticity::Elasticity;
 pub(crate) use elasticity::PARALLEL_MIN_ELEMENTS;
 pub use element_field::ElementField;
+pub use friction::{Friction, FrictionSettings};
 pub use gravity::Gravity;
 pub use ground_barrier::{GroundBarrier, STIFFNESS_RATIO as GROUND_STIFFNESS_RATIO};
 pub use inertia::Inertia;

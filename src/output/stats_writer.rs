@@ -48,6 +48,7 @@ const TRAILING_COLUMNS: &[&str] = &[
     "subdivided_steps",
     "damped_steps",
     "boundary_error",
+    "friction_dissipated",
     "render_ms",
     "encode_ms",
 ];
@@ -85,6 +86,8 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// largest distance of a prescribed (moving pinned) vertex from its path at
 /// the end of a step of the frame (0 when every step could put the regions
 /// on their path before its solve; empty in scenes without moving regions);
+/// `friction_dissipated`: the work friction has taken out of the bodies
+/// since frame 0 (energy units; empty in scenes without friction);
 /// `render_ms`: drawing the frame's image (draw, readback, legend),
 /// `encode_ms`: encoding and writing it (PNG frame and videos, on worker
 /// threads), both 0 without rendering and empty for frames a failed run
@@ -209,7 +212,7 @@ impl StatsWriter {
         let min_distance = contact.min_distance.map(num).unwrap_or_default();
         write!(
             row,
-            ",{min_distance},{},{:.3},{:.3},{},{},{},{},{}",
+            ",{min_distance},{},{:.3},{:.3},{},{},{},{},{},{}",
             contact.active_pairs,
             ms(contact.broad_phase),
             ms(contact.ccd),
@@ -218,6 +221,7 @@ impl StatsWriter {
             stats.subdivided_steps,
             stats.damped_steps,
             stats.boundary_error.map(num).unwrap_or_default(),
+            stats.friction_dissipated.map(num).unwrap_or_default(),
         )
         .expect("formatting into a String cannot fail");
         PendingRow(row)
@@ -255,6 +259,7 @@ mod tests {
             blocked_by: None,
             boundary_error: None,
             contact: None,
+            friction_dissipated: None,
             energy: EnergyBreakdown {
                 kinetic: 1.0,
                 potentials: vec![("elastic", 0.25), ("gravity", -2.0), ("barrier", 0.125)],

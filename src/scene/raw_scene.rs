@@ -180,6 +180,10 @@ pub(crate) struct RawSolver {
     pub max_subdivisions: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub step: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_velocity: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_iterations: Option<i64>,
 }
 
 /// `[effects]`: each sub-table present is an effect that exists.
@@ -206,6 +210,8 @@ pub(crate) struct RawContact {
     pub kappa: Option<f64>,
     #[serde(default, rename = "self", skip_serializing_if = "Option::is_none")]
     pub self_contact: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
 }
 
 /// `[effects.gravity]`.
@@ -225,6 +231,8 @@ pub(crate) struct RawGround {
     pub a: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kappa: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
 }
 
 /// One `[[effects.pinned]]` region (or `bodies.pinned`).

@@ -28,7 +28,7 @@ use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector, Vector3};
 use crate::mesh_io::{ImportOptions, load_mesh};
 use crate::render::{Camera, Colouring, RenderSettings};
-use crate::sim::{Contact, Effects, Ground, PinMotion, PinRegion};
+use crate::sim::{Contact, DEFAULT_FRICTION_VELOCITY, Effects, Ground, PinMotion, PinRegion};
 use crate::solver::{SolverMethod, SolverSettings};
 use std::path::{Path, PathBuf};
 
@@ -42,6 +42,8 @@ pub(crate) struct SceneValidator<'d, 'a> {
 
 type VResult<T> = std::result::Result<T, SceneError>;
 
+/// The most solves per step `solver.friction_iterations` may ask for.
+const MAX_FRICTION_ITERATIONS: usize = 100;
 /// The most halvings of a step `solver.max_subdivisions` may ask for
 /// (`dt / 2^10`: a thousand times more steps where every level fails).
 const MAX_SUBDIVISIONS: usize = 10;
@@ -82,6 +84,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         let (time, raw_time) = self.time(&raw.time)?;
         let (solver, raw_solver) = self.solver(&raw.solver)?;
         let (effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
+        let (solver, raw_solver) =
+            self.friction_solver(solver, raw_solver, &raw.solver, &effects, &bodies)?;
         let ground_height = effects.ground.map(|g| g.height);
         let (field, render, raw_render) = self.render::<D>(&raw.render, ground_height)?;
         let config = SceneConfig {
@@ -940,6 +944,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             max_iterations: Some(max_iterations as i64),
             max_subdivisions: Some(max_subdivisions as i64),
             step,
+            friction_velocity: None,
+            friction_iterations: None,
         };
         Ok((
             SolverSettings {
@@ -947,9 +953,68 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 tolerance,
                 max_iterations,
                 max_subdivisions,
+                ..SolverSettings::default()
             },
             resolved,
         ))
+    }
+
+    /// `solver.friction_velocity` and `solver.friction_iterations`, in a
+    /// scene with friction (a `friction` above 0 in `[effects.ground]` or
+    /// `[effects.contact]`); refused without it, where they would do nothing.
+    fn friction_solver<const D: usize>(
+        &self,
+        mut solver: SolverSettings,
+        mut resolved: RawSolver,
+        raw: &RawSolver,
+        effects: &Effects<D>,
+        bodies: &[BodyConfig<D>],
+    ) -> VResult<(SolverSettings, RawSolver)> {
+        let has_friction = effects.ground.is_some_and(|g| g.friction > 0.0)
+            || effects.contact.is_some_and(|c| c.friction > 0.0);
+        if !has_friction {
+            for (key, given) in [
+                ("solver.friction_velocity", raw.friction_velocity.is_some()),
+                (
+                    "solver.friction_iterations",
+                    raw.friction_iterations.is_some(),
+                ),
+            ] {
+                if given {
+                    return Err(self.err(
+                        key,
+                        "is only used with friction: give effects.ground.friction or \
+                         effects.contact.friction above 0",
+                    ));
+                }
+            }
+            return Ok((solver, resolved));
+        }
+        let velocity = match raw.friction_velocity {
+            Some(v) => self.positive("solver.friction_velocity", v)?,
+            None => DEFAULT_FRICTION_VELOCITY * bounding_box_diagonal(bodies),
+        };
+        let iterations = match raw.friction_iterations {
+            Some(n) => self.count("solver.friction_iterations", n, MAX_FRICTION_ITERATIONS)?,
+            None => 1,
+        };
+        solver.friction_velocity = Some(velocity);
+        solver.friction_iterations = iterations;
+        resolved.friction_velocity = Some(velocity);
+        resolved.friction_iterations = Some(iterations as i64);
+        Ok((solver, resolved))
+    }
+
+    /// A friction coefficient: 0 or more, finite.
+    fn friction_coefficient(&self, key: &str, mu: Option<f64>) -> VResult<f64> {
+        match mu {
+            None => Ok(0.0),
+            Some(mu) if mu >= 0.0 && mu.is_finite() => Ok(mu),
+            Some(mu) => Err(self.err(
+                key,
+                format!("must be 0 or more and finite, got {}", num(mu)),
+            )),
+        }
     }
 
     fn effects<const D: usize>(
@@ -1017,15 +1082,18 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                     ),
                 ));
             }
+            let friction = self.friction_coefficient("effects.ground.friction", g.friction)?;
             effects.ground = Some(Ground {
                 height,
                 activation_distance: a,
                 stiffness: kappa,
+                friction,
             });
             resolved.ground = Some(RawGround {
                 height: Some(height),
                 a: Some(a),
                 kappa,
+                friction: (friction > 0.0).then_some(friction),
             });
         }
         if let Some(c) = &raw.contact {
@@ -1048,15 +1116,18 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 None => None,
             };
             let self_contact = c.self_contact.unwrap_or(true);
+            let friction = self.friction_coefficient("effects.contact.friction", c.friction)?;
             effects.contact = Some(Contact {
                 distance: Some(distance),
                 stiffness: kappa,
                 self_contact,
+                friction,
             });
             resolved.contact = Some(RawContact {
                 distance: Some(distance),
                 kappa,
                 self_contact: Some(self_contact),
+                friction: (friction > 0.0).then_some(friction),
             });
         }
         if let Some(list) = &raw.pinned {

@@ -13,6 +13,9 @@ pub struct Ground {
     /// Barrier stiffness `kappa`, in energy per length^2; `None` picks it by the
     /// default rule documented in [`crate::energy::GroundBarrier::default_stiffness`].
     pub stiffness: Option<f64>,
+    /// The coefficient of friction `mu` against the ground (default 0: none;
+    /// [`crate::energy::Friction`]).
+    pub friction: f64,
 }
 
 /// Contact between and within bodies (`[effects.contact]`), the IPC way.
@@ -26,6 +29,9 @@ pub struct Contact {
     pub stiffness: Option<f64>,
     /// Whether parts of one body collide with each other (default: true).
     pub self_contact: bool,
+    /// The coefficient of friction `mu` between and within bodies (default
+    /// 0: none; [`crate::energy::Friction`]).
+    pub friction: f64,
 }
 
 impl Default for Contact {
@@ -34,6 +40,7 @@ impl Default for Contact {
             distance: None,
             stiffness: None,
             self_contact: true,
+            friction: 0.0,
         }
     }
 }

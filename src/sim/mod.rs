@@ -41,6 +41,7 @@ pub use effects::{Contact, Effects, Ground};
 pub use pin_region::{PinMotion, PinRegion, rotate};
 pub use sim_error::SimError;
 pub use simulation::Simulation;
+pub use simulation_setup::DEFAULT_FRICTION_VELOCITY;
 pub use stats::{ContactStats, EnergyBreakdown, FrameStats, StepStats};
 
 use crate::integrator::IntegratorKind;

@@ -3,7 +3,7 @@
 use super::{ContactStats, EnergyBreakdown, FrameStats, PinMotion, SimulationSettings};
 use crate::assembly::SparseHessian;
 use crate::energy::{
-    BodyElasticity, ContactBarrier, ElementField, EnergyTerm, GroundBarrier, Inertia,
+    BodyElasticity, ContactBarrier, ElementField, EnergyTerm, Friction, GroundBarrier, Inertia,
 };
 use crate::integrator::TimeIntegrator;
 use crate::math::Vector;
@@ -34,6 +34,12 @@ pub struct Simulation<const D: usize> {
     pub(super) integrator: Box<dyn TimeIntegrator<D>>,
     /// Contact between and within bodies (`None` without `[effects.contact]`).
     pub(super) contact: Option<ContactBarrier<D>>,
+    /// Friction on the ground and between bodies (`None` without a
+    /// `friction` coefficient above 0): in every solve, but dissipative, so
+    /// not among the potentials.
+    pub(super) friction: Option<Friction<D>>,
+    /// The work friction has taken out of the bodies since the start.
+    pub(super) friction_dissipated: f64,
     pub(super) hessian: SparseHessian<D>,
     /// The Hessian whose unknowns include the vertices of the moving
     /// regions, for steps that pull them onto their path within the solve
@@ -156,6 +162,24 @@ impl<const D: usize> Simulation<D> {
         self.contact.as_ref().map(|c| c.forces(&self.positions))
     }
 
+    /// The friction term (`None` in a scene without friction).
+    pub fn friction(&self) -> Option<&Friction<D>> {
+        self.friction.as_ref()
+    }
+
+    /// The friction force on every vertex over the last step (`None`
+    /// without friction): the lagged stencils' `-grad D` at the current
+    /// positions.
+    pub fn friction_forces(&self) -> Option<Vec<Vector<D>>> {
+        self.friction.as_ref().map(|f| f.forces(&self.positions))
+    }
+
+    /// The work friction has taken out of the bodies since the start
+    /// (`None` without friction).
+    pub fn friction_dissipated(&self) -> Option<f64> {
+        self.friction.as_ref().map(|_| self.friction_dissipated)
+    }
+
     /// The names of the energy entries of every frame's breakdown, in order:
     /// `kinetic`, then each potential term's name.
     pub fn energy_names(&self) -> Vec<&'static str> {
@@ -187,6 +211,7 @@ impl<const D: usize> Simulation<D> {
             blocked_by: None,
             boundary_error: self.motions.iter().any(|m| m.is_moving()).then_some(0.0),
             contact: self.contact_stats(),
+            friction_dissipated: self.friction_dissipated(),
             energy: self.energies(),
             centre_of_mass,
             min_height: self.ground.as_ref().map(|g| g.min_height(&self.positions)),

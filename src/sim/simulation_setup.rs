@@ -17,13 +17,18 @@ use crate::contact::{
     first_surface_crossing,
 };
 use crate::energy::{
-    BodyElasticity, ContactBarrier, ContactSettings, EnergyTerm, Gravity, GroundBarrier, Inertia,
+    BodyElasticity, ContactBarrier, ContactSettings, EnergyTerm, Friction, FrictionSettings,
+    Gravity, GroundBarrier, Inertia,
 };
 use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
 use crate::solver::SolverMethod;
 use std::sync::Arc;
+
+/// Friction's default velocity threshold `eps_v`, per second, as a fraction
+/// of the bodies' bounding-box diagonal.
+pub const DEFAULT_FRICTION_VELOCITY: f64 = 1e-3;
 
 fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
     SimError::InvalidSetting {
@@ -120,6 +125,17 @@ impl<const D: usize> Simulation<D> {
             return Err(invalid(
                 "step",
                 format!("must be positive and finite, got {step}"),
+            ));
+        }
+        if settings.solver.friction_iterations == 0 {
+            return Err(invalid("friction_iterations", "must be at least 1"));
+        }
+        if let Some(v) = settings.solver.friction_velocity
+            && !(v > 0.0 && v.is_finite())
+        {
+            return Err(invalid(
+                "friction_velocity",
+                format!("must be positive and finite, got {v}"),
             ));
         }
         for (label, region) in pin_labels(&effects, &bodies) {
@@ -260,6 +276,7 @@ impl<const D: usize> Simulation<D> {
             )?),
             None => None,
         };
+        let friction = friction_term(&effects, &positions, settings.solver.friction_velocity)?;
         let hessian =
             SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SetupFailure {
                 reason: e.to_string(),
@@ -287,6 +304,8 @@ impl<const D: usize> Simulation<D> {
             integrator,
             contact,
             ground,
+            friction,
+            friction_dissipated: 0.0,
             mesh,
             masses,
             positions,
@@ -348,6 +367,48 @@ fn ground_barrier<const D: usize>(
     Ok(barrier)
 }
 
+/// The friction term, if the ground or the contact has a coefficient above
+/// 0 (and exists): with the velocity threshold given, or 1e-3 times the
+/// bounding-box diagonal of the bodies at `positions` per second.
+fn friction_term<const D: usize>(
+    effects: &Effects<D>,
+    positions: &[Vector<D>],
+    velocity_threshold: Option<f64>,
+) -> Result<Option<Friction<D>>, SimError> {
+    let contact = effects.contact.map_or(0.0, |c| c.friction);
+    let ground = effects.ground.map_or(0.0, |g| g.friction);
+    for (key, mu) in [("contact", contact), ("ground", ground)] {
+        if !(mu >= 0.0 && mu.is_finite()) {
+            return Err(invalid(
+                key,
+                format!("the friction coefficient must be 0 or more and finite, got {mu}"),
+            ));
+        }
+    }
+    if contact == 0.0 && ground == 0.0 {
+        return Ok(None);
+    }
+    let velocity_threshold = velocity_threshold
+        .unwrap_or_else(|| DEFAULT_FRICTION_VELOCITY * bounding_box_diagonal(positions));
+    Ok(Some(Friction::new(FrictionSettings {
+        contact,
+        ground,
+        velocity_threshold,
+    })))
+}
+
+/// The diagonal of the axis-aligned box around `positions`.
+fn bounding_box_diagonal<const D: usize>(positions: &[Vector<D>]) -> f64 {
+    let (low, high) = positions.iter().fold(
+        (
+            Vector::<D>::repeat(f64::INFINITY),
+            Vector::<D>::repeat(f64::NEG_INFINITY),
+        ),
+        |(low, high), x| (low.inf(x), high.sup(x)),
+    );
+    (high - low).norm()
+}
+
 /// The contact term of the bodies (vertex `v` of body `owner[v]`) at their
 /// rest positions, refused when two surface primitives start closer than
 /// `d_hat` (bodies that start intersecting or touching).
@@ -358,14 +419,7 @@ fn contact_barrier<const D: usize>(
     positions: &[Vector<D>],
     contact: super::Contact,
 ) -> Result<ContactBarrier<D>, SimError> {
-    let (low, high) = positions.iter().fold(
-        (
-            Vector::<D>::repeat(f64::INFINITY),
-            Vector::<D>::repeat(f64::NEG_INFINITY),
-        ),
-        |(low, high), x| (low.inf(x), high.sup(x)),
-    );
-    let diagonal = (high - low).norm();
+    let diagonal = bounding_box_diagonal(positions);
     let distance = contact.distance.unwrap_or(1e-3 * diagonal);
     if !(distance > 0.0 && distance.is_finite()) {
         return Err(invalid(

@@ -100,6 +100,9 @@ pub struct FrameStats<const D: usize> {
     pub boundary_error: Option<f64>,
     /// Contact's measures (`None` without `[effects.contact]`).
     pub contact: Option<ContactStats>,
+    /// The work friction has taken out of the bodies since the start, at
+    /// the frame's end (`None` in a scene without friction).
+    pub friction_dissipated: Option<f64>,
     /// Energies at the end of the frame.
     pub energy: EnergyBreakdown,
     /// Centre of mass.

@@ -20,6 +20,7 @@ pub(super) struct StepStart<const D: usize> {
     velocities: Vec<Vector<D>>,
     integrator: Box<dyn TimeIntegrator<D>>,
     time: f64,
+    friction_dissipated: f64,
 }
 
 /// Prescribed vertices that could not be put on their path before the
@@ -99,6 +100,7 @@ impl<const D: usize> Simulation<D> {
             velocities: self.velocities.clone(),
             integrator: self.integrator.boxed_clone(),
             time: self.time,
+            friction_dissipated: self.friction_dissipated,
         }
     }
 
@@ -107,6 +109,7 @@ impl<const D: usize> Simulation<D> {
         self.velocities = start.velocities;
         self.integrator = start.integrator;
         self.time = start.time;
+        self.friction_dissipated = start.friction_dissipated;
     }
 
     /// One attempt at a step of length `dt` from the current state: the
@@ -125,6 +128,7 @@ impl<const D: usize> Simulation<D> {
         // where the solve starts elsewhere.
         self.integrator
             .begin_step(&self.positions, &self.velocities, dt);
+        let x_start = self.friction.is_some().then(|| self.positions.clone());
         let lagging = match self.place_prescribed(end_time) {
             Ok(lagging) => lagging,
             Err(reason) => return Err(failure(self, reason)),
@@ -138,11 +142,34 @@ impl<const D: usize> Simulation<D> {
         self.inertia.set_prediction(self.integrator.predicted());
         let weight = self.integrator.potential_weight(dt);
         self.balance_contact_stiffness(weight);
-        let stats = match lagging {
+        if let Some(x_start) = &x_start {
+            self.lag_friction(x_start, x_start, dt);
+        }
+        let mut stats = match lagging {
             None => self.minimise(weight, dt, None),
             Some(lagging) => self.minimise_with_prescribed(weight, dt, lagging),
         }
         .map_err(|e| failure(self, e.to_string()))?;
+        if let Some(x_start) = &x_start {
+            for _ in 1..self.settings.solver.friction_iterations {
+                if !stats.converged {
+                    break;
+                }
+                let solution = self.positions.clone();
+                self.lag_friction(&solution, x_start, dt);
+                let pass = self
+                    .minimise(weight, dt, None)
+                    .map_err(|e| failure(self, e.to_string()))?;
+                stats.accumulate(&pass);
+                stats.converged = pass.converged;
+                stats.stalled = pass.stalled;
+                stats.residual = pass.residual;
+                stats.blocked_by = stats.blocked_by.or(pass.blocked_by);
+            }
+        }
+        if let Some(friction) = &self.friction {
+            self.friction_dissipated += friction.dissipated(&self.positions);
+        }
         if let Some(vertex) = self
             .positions
             .iter()
@@ -191,6 +218,9 @@ impl<const D: usize> Simulation<D> {
         }
         if let Some(contact) = &mut self.contact {
             terms.push((contact, weight));
+        }
+        if let Some(friction) = &mut self.friction {
+            terms.push((friction, weight));
         }
         if let Some(prescribed) = prescribed {
             terms.push((prescribed, 1.0));
@@ -317,6 +347,25 @@ impl<const D: usize> Simulation<D> {
             cap = cap.min(term.max_step(&x, direction));
         }
         cap
+    }
+
+    /// Freezes friction's stencils for a solve of a step of length `dt`:
+    /// normal forces, closest points and normals at `lagged`, slip measured
+    /// from the step's start `x_start` (the ground's vertices within its
+    /// barrier, the contact's active stencils, each with its `mu`).
+    fn lag_friction(&mut self, lagged: &[Vector<D>], x_start: &[Vector<D>], dt: f64) {
+        let Some(friction) = &mut self.friction else {
+            return;
+        };
+        let settings = friction.settings();
+        let mut stencils = Vec::new();
+        if let Some(ground) = self.ground.as_ref().filter(|_| settings.ground > 0.0) {
+            ground.friction_stencils(lagged, x_start, settings.ground, &mut stencils);
+        }
+        if let Some(contact) = self.contact.as_mut().filter(|_| settings.contact > 0.0) {
+            contact.friction_stencils(lagged, x_start, settings.contact, &mut stencils);
+        }
+        friction.lag(stencils, dt);
     }
 
     /// Sets the contact stiffness for this step by IPC's balance rule (an

@@ -28,6 +28,14 @@ pub struct SolverSettings {
     /// How many times a step that does not converge may be halved and
     /// retried (default: 4, down to `dt / 16`); 0 keeps every step whole.
     pub max_subdivisions: usize,
+    /// Friction's velocity threshold `eps_v`, in length/s: slip slower than
+    /// this is static friction, smoothed (`None`: 1e-3 times the bodies'
+    /// bounding-box diagonal per second). Only scenes with friction use it.
+    pub friction_velocity: Option<f64>,
+    /// Solves per step with friction (default: 1): each pass after the
+    /// first takes friction's normal forces and tangents again at the last
+    /// solution and solves again.
+    pub friction_iterations: usize,
 }
 
 impl Default for SolverSettings {
@@ -37,6 +45,8 @@ impl Default for SolverSettings {
             tolerance: 1e-4,
             max_iterations: 50,
             max_subdivisions: 4,
+            friction_velocity: None,
+            friction_iterations: 1,
         }
     }
 }

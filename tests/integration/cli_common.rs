@@ -84,6 +84,7 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "subdivided_steps",
     "damped_steps",
     "boundary_error",
+    "friction_dissipated",
     "render_ms",
     "encode_ms",
 ];

@@ -25,6 +25,7 @@ fn simulate<const D: usize>(cells: [usize; D]) -> Vec<Vector<D>> {
             height: 0.0,
             activation_distance: 0.1,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: Vec::new(),
@@ -136,11 +137,13 @@ fn contact_run(threads: usize) -> (Vec<Vector<3>>, usize) {
                 height: 0.0,
                 activation_distance: 0.02,
                 stiffness: None,
+                friction: 0.0,
             }),
             contact: Some(Contact {
                 distance: Some(0.005),
                 stiffness: None,
                 self_contact: true,
+                friction: 0.0,
             }),
             pinned: Vec::new(),
         };

@@ -285,7 +285,11 @@ fn check(first: &CaseRun, again: &CaseRun, failures: &mut Vec<String>) {
             }
             // Empty while no pair of surface primitives is within d_hat
             // (and always without [effects.contact]).
-            if (h == "min_distance" || h == "boundary_error") && v.is_empty() {
+            if matches!(
+                h.as_str(),
+                "min_distance" | "boundary_error" | "friction_dissipated"
+            ) && v.is_empty()
+            {
                 continue;
             }
             match v.parse::<f64>() {

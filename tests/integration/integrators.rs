@@ -411,6 +411,7 @@ fn a_3d_drop_runs_with_every_integrator() {
                 height: 0.0,
                 activation_distance: 0.05,
                 stiffness: None,
+                friction: 0.0,
             }),
             contact: None,
             pinned: Vec::new(),

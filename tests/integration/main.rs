@@ -37,6 +37,7 @@ mod contact_hard_cases;
 mod derivatives;
 mod determinism;
 mod element_fields;
+mod friction;
 mod golden_scenes;
 mod hard_cases;
 mod integrators;

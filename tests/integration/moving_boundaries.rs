@@ -390,6 +390,7 @@ fn a_move_into_the_ground_is_refused() {
             height: 0.0,
             activation_distance: 0.1,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: vec![plate],

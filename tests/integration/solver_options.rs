@@ -16,6 +16,7 @@ fn falling_box(solver: SolverSettings, ground: bool) -> Simulation<2> {
             height: 0.0,
             activation_distance: 0.1,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: Vec::new(),
@@ -51,6 +52,7 @@ fn gradient_descent_reaches_the_newton_solution_at_far_greater_cost() {
         tolerance,
         max_iterations: 1_000_000,
         max_subdivisions: 0,
+        ..Default::default()
     };
     let mut descent = falling_box(descent_settings, false);
     let descent_stats = descent.step().unwrap().solver;
@@ -115,6 +117,7 @@ fn invalid_settings_and_bodies_below_ground_are_errors() {
             height: 0.0,
             activation_distance: 0.1,
             stiffness: None,
+            friction: 0.0,
         }),
         ..Default::default()
     };

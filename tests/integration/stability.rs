@@ -56,6 +56,7 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
             height: 0.0,
             activation_distance: 0.05,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: Vec::new(),

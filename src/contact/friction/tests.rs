@@ -61,7 +61,7 @@ fn stencil(kind: StencilKind) -> ContactStencil {
 fn frozen<const D: usize>(kind: StencilKind, start: &[Vector<D>]) -> FrictionStencil<D> {
     let contact = stencil(kind);
     let lambda = normal_force(&contact, start, DHAT * DHAT, KAPPA);
-    FrictionStencil::of_contact(&contact, start, MU * lambda).expect("the pair is apart")
+    FrictionStencil::of_contact(&contact, start, start, MU * lambda).expect("the pair is apart")
 }
 
 /// `x = start + u` for the velocities `u` (dt = 1).

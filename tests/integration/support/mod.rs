@@ -94,6 +94,7 @@ pub fn report_drop(release_height: f64, a: f64, settings: SimulationSettings) ->
             height: 0.0,
             activation_distance: a,
             stiffness: None,
+            friction: 0.0,
         }),
         contact: None,
         pinned: Vec::new(),
