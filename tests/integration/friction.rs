@@ -319,3 +319,43 @@ fn friction_keys_are_validated_before_any_work() {
     );
     assert!(stdout(&o).contains(&expected), "{}", stdout(&o));
 }
+
+#[test]
+fn a_sweep_over_the_friction_coefficient_shows_the_difference() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene =
+        tilted_block(2, Some(0.3), "") + "\n[render]\nresolution = [160, 120]\nlegend = false\n";
+    std::fs::write(dir.path().join("slope.toml"), scene).unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "sweep",
+            "slope.toml",
+            "--vary",
+            "effects.ground.friction=0,0.2,0.4,0.8",
+            "--frames",
+            "16",
+            "-o",
+            "sweep",
+        ],
+    );
+    assert_code(&o, 0);
+    assert!(dir.path().join("sweep/contact_sheet.png").is_file());
+    let (header, rows) = read_csv(&dir.path().join("sweep/sweep.csv"));
+    let column = |c: &str| header.iter().position(|h| h == c).unwrap();
+    let travel: Vec<f64> = rows
+        .iter()
+        .map(|r| r[column("com_x")].parse::<f64>().unwrap() - 0.5)
+        .collect();
+    assert_eq!(travel.len(), 4);
+    // 0.5 s: ½ g (sin θ − μ cos θ) t² (from the landing on) for the three
+    // that slide, 0 for μ = 0.8 > tan θ.
+    for (mu, moved) in [0.0, 0.2, 0.4].iter().zip(&travel) {
+        let expected = 0.5 * G * (SIN - mu * COS) * 0.25;
+        assert!(
+            (moved - expected).abs() < 0.05 * expected,
+            "μ = {mu}: travelled {moved}, expected about {expected}"
+        );
+    }
+    assert!(travel[3].abs() < 1e-2, "μ = 0.8 holds: {}", travel[3]);
+}

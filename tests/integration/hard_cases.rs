@@ -398,6 +398,7 @@ macro_rules! hard_case_tests {
 hard_case_tests! {
     big_step_2d => "big-step-2d",
     big_step_3d => "big-step-3d",
+    friction_drag_2d => "friction-drag-2d",
     heavy_gravity_2d => "heavy-gravity-2d",
     heavy_gravity_3d => "heavy-gravity-3d",
     impact_50_2d => "impact-50-2d",
