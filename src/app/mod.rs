@@ -40,6 +40,18 @@ use preflight::SceneInput;
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<(), AppError> {
     thread_count::configure_threads()?;
+    if let Some(reason) = crate::render::backend_variable_problem() {
+        return Err(AppError::Environment {
+            variable: format!(
+                "{}={}",
+                crate::render::BACKEND_VARIABLE,
+                std::env::var_os(crate::render::BACKEND_VARIABLE)
+                    .unwrap_or_default()
+                    .to_string_lossy()
+            ),
+            reason,
+        });
+    }
     match cli.command {
         Command::Run(args) => run_command::run(&args),
         Command::Scenes(args) => standard_output::print(&scenes_command::scenes(&args)?),

@@ -50,6 +50,9 @@ pub fn sweep(args: &SweepArgs) -> Result<(), AppError> {
     if !args.force {
         plan.check_sweep_folder()?;
     }
+    if args.collect {
+        plan.check_collectable()?;
+    }
     let actions = plan.check_folders(args.force && !args.collect)?;
     if !args.collect {
         std::fs::create_dir_all(&plan.out).map_err(|source| SweepError::Io {
@@ -162,6 +165,33 @@ impl SweepPlan {
         }
         let source = SceneSource::resolve(Some(&scene))?;
         let shared = scene_overrides(&set)?;
+        // A shortcut flag would replace a varied key in every run, while the
+        // table reported the varied values.
+        for (given, flag, keys) in [
+            (
+                args.frames.map(|n| format!("--frames {n}")),
+                "--frames",
+                &["time.frames", "time.duration"][..],
+            ),
+            (
+                args.resolution
+                    .map(|(w, h)| format!("--resolution {w}x{h}")),
+                "--resolution",
+                &["render.resolution"][..],
+            ),
+        ] {
+            if let (Some(given), Some(axis)) =
+                (given, axes.iter().find(|a| keys.contains(&a.key.as_str())))
+            {
+                return Err(bad_flag(
+                    given,
+                    format!(
+                        "would replace the varied {} in every run: vary it or give {flag}, not both",
+                        axis.key
+                    ),
+                ));
+            }
+        }
         let flags = shortcut_overrides(args.frames, args.resolution)?;
         let render = !args.no_render;
         let videos = if render {
@@ -270,6 +300,32 @@ impl SweepPlan {
         Err(SweepError::NotASweepFolder {
             folder: self.out.clone(),
         })
+    }
+
+    /// For `--collect`: the sweep's folder holds at least one run folder of
+    /// this plan; else nothing is written (a table of runs that never ran
+    /// would replace the real sweep's).
+    fn check_collectable(&self) -> Result<(), SweepError> {
+        let nothing = |reason| SweepError::NothingToCollect {
+            folder: self.out.clone(),
+            reason,
+        };
+        if !self.out.is_dir() {
+            return Err(nothing("there is no sweep folder here"));
+        }
+        if self
+            .runs
+            .iter()
+            .any(|run| self.out.join(run.folder_name()).is_dir())
+        {
+            return Ok(());
+        }
+        let empty = std::fs::read_dir(&self.out).is_ok_and(|mut e| e.next().is_none());
+        Err(nothing(if empty {
+            "the folder is empty"
+        } else {
+            "it holds none of this sweep's runs"
+        }))
     }
 
     fn check_folders(&self, force: bool) -> Result<Vec<(usize, Action)>, SweepError> {

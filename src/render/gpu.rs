@@ -60,6 +60,38 @@ pub fn max_image_size() -> Result<(u32, u64), RenderError> {
     Ok((gpu.max_texture_side, gpu.device.limits().max_buffer_size))
 }
 
+/// The variable wgpu reads for the backends to try.
+pub const BACKEND_VARIABLE: &str = "WGPU_BACKEND";
+
+/// The backend names wgpu accepts in [`BACKEND_VARIABLE`] (its own list,
+/// `wgpu::Backends::from_comma_list`, without `noop`, which renders nothing).
+const BACKEND_NAMES: [&str; 10] = [
+    "vulkan", "vk", "dx12", "d3d12", "metal", "mtl", "opengl", "gles", "gl", "webgpu",
+];
+
+/// Why [`BACKEND_VARIABLE`] cannot select a backend (`None` when it is unset
+/// or names only backends wgpu knows): wgpu skips a name it does not know
+/// with a log line nobody sees, and a list of only such names left no backend
+/// to try, found only when the first frame was to be drawn.
+pub fn backend_variable_problem() -> Option<String> {
+    let value = std::env::var_os(BACKEND_VARIABLE)?;
+    let Some(text) = value.to_str() else {
+        return Some("is not valid UTF-8".to_owned());
+    };
+    let unknown: Vec<&str> = text
+        .split(',')
+        .map(str::trim)
+        .filter(|name| !BACKEND_NAMES.contains(&name.to_lowercase().as_str()))
+        .collect();
+    (!unknown.is_empty()).then(|| {
+        format!(
+            "names no graphics backend wgpu knows: `{}`; give a comma-separated list of {}",
+            unknown.join("`, `"),
+            BACKEND_NAMES.join(", ")
+        )
+    })
+}
+
 fn backends() -> wgpu::Backends {
     wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY | wgpu::Backends::GL)
 }

@@ -60,7 +60,7 @@ mod video_writer;
 
 pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
 pub use export::{check_video_support, frame_file_name, write_png};
-pub use gpu::{adapter_description, max_image_size};
+pub use gpu::{BACKEND_VARIABLE, adapter_description, backend_variable_problem, max_image_size};
 pub use image_video::write_image_video;
 pub use partial_file::{remove_partial_files, write_whole_file};
 pub use preparing::PreparingRenderer;

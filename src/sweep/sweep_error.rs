@@ -114,6 +114,19 @@ pub enum SweepError {
         /// The I/O error.
         source: std::io::Error,
     },
+    /// `--collect` on a folder with no run of this sweep: missing, empty, or
+    /// holding the runs of other `--vary` values.
+    #[error(
+        "{}: {reason}; nothing was written (run the sweep, or its shards, first, with the same \
+         scene, --vary and --set)",
+        folder.display()
+    )]
+    NothingToCollect {
+        /// The sweep's folder.
+        folder: PathBuf,
+        /// What is there instead.
+        reason: &'static str,
+    },
     /// Some runs failed (the others completed; see `sweep.csv`).
     #[error("{failed} of {total} runs failed (see {})", table.display())]
     RunsFailed {

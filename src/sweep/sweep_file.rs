@@ -36,7 +36,9 @@ pub struct SweepFile {
 }
 
 /// Whether `path` looks like a sweep file: a TOML file with a top-level
-/// `scene` string (scene files have no such key).
+/// `scene` or `vary` (scene files have neither), so that a sweep file that
+/// lacks its `scene`, or gives it as other than a string, is told so rather
+/// than read as a scene with unknown keys.
 pub fn is_sweep_file(path: &Path) -> bool {
     if !path.is_file() {
         return false;
@@ -45,7 +47,7 @@ pub fn is_sweep_file(path: &Path) -> bool {
         return false;
     };
     text.parse::<toml::Table>()
-        .is_ok_and(|table| table.get("scene").is_some_and(toml::Value::is_str))
+        .is_ok_and(|table| table.contains_key("scene") || table.contains_key("vary"))
 }
 
 impl SweepFile {
