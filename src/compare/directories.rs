@@ -88,10 +88,12 @@ fn compare_frame(
     let actual = read_rgba(&actual_path)?;
 
     let copy_path = diff_dir.join(actual_copy_name(name));
-    std::fs::copy(&actual_path, &copy_path).map_err(|source| CompareError::Write {
-        path: copy_path.clone(),
-        source: source.into(),
-    })?;
+    std::fs::read(&actual_path)
+        .and_then(|bytes| write_replacing(&copy_path, &bytes))
+        .map_err(|source| CompareError::Write {
+            path: copy_path.clone(),
+            source: source.into(),
+        })?;
     comparison.actual_image = Some(copy_path);
 
     if golden.dimensions() != actual.dimensions() {
@@ -103,9 +105,11 @@ fn compare_frame(
     }
     let result = compare_images(&golden, &actual, thresholds)?;
     let diff_path = diff_dir.join(name);
+    let mut png = std::io::Cursor::new(Vec::new());
     result
         .diff_image()
-        .save_with_format(&diff_path, ImageFormat::Png)
+        .write_to(&mut png, ImageFormat::Png)
+        .and_then(|()| write_replacing(&diff_path, png.get_ref()).map_err(Into::into))
         .map_err(|source| CompareError::Write {
             path: diff_path.clone(),
             source,
@@ -119,6 +123,31 @@ fn compare_frame(
     comparison.percentile_value = Some(result.percentile_value);
     comparison.diff_image = Some(diff_path);
     Ok(comparison)
+}
+
+/// Writes `bytes` to a temporary file beside `path` and renames it over
+/// `path`: whatever `path` was (a symbolic link to a golden frame, say) is
+/// replaced, never written through, and a failed write leaves no cut-off
+/// file under the final name.
+fn write_replacing(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let temporary = path.with_file_name(format!(".{name}.partial"));
+    // A stale temporary (or a link placed there) is removed, not followed.
+    match std::fs::remove_file(&temporary) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+        _ => {}
+    }
+    let written = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&temporary)
+        .and_then(|mut file| file.write_all(bytes).and_then(|()| file.sync_data()))
+        .and_then(|()| std::fs::rename(&temporary, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&temporary);
+    }
+    written
 }
 
 /// Reads a PNG file as 8-bit RGBA.

@@ -171,3 +171,48 @@ fn an_empty_golden_folder_is_an_error_naming_it() {
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Issue 33, item 20: difference and actual images were written through
+/// symbolic links placed in `--diff` (links to a golden frame): the golden
+/// image was overwritten, exit 0. Now each image is written to a temporary
+/// file and renamed over whatever was there: the links are replaced, their
+/// targets untouched.
+#[test]
+fn links_in_the_diff_folder_are_replaced_not_written_through() {
+    let (tmp, golden, frames) = folders();
+    // Frame 1 differs, so both its images are written.
+    save(&frames, "frame_0001.png", &box_frame(160, 120, 90));
+    let diff = tmp.path().join("diff");
+    std::fs::create_dir_all(&diff).unwrap();
+    let target = golden.join("frame_0001.png");
+    let before = std::fs::read(&target).unwrap();
+    for name in [
+        "frame_0001.png",
+        "frame_0001.actual.png",
+        ".frame_0001.png.partial",
+    ] {
+        std::os::unix::fs::symlink(&target, diff.join(name)).unwrap();
+    }
+    let d = diff.to_str().unwrap();
+    expect_exit(&compare(&golden, &frames, &["--diff", d]), 1);
+    assert_eq!(
+        std::fs::read(&target).unwrap(),
+        before,
+        "the golden frame is untouched"
+    );
+    for name in ["frame_0001.png", "frame_0001.actual.png"] {
+        let path = diff.join(name);
+        assert!(
+            !path.is_symlink() && path.is_file(),
+            "{name} is a file of its own"
+        );
+    }
+    assert!(
+        !diff.join(".frame_0001.png.partial").exists(),
+        "no temporary left"
+    );
+    assert_eq!(
+        std::fs::read(diff.join("frame_0001.actual.png")).unwrap(),
+        std::fs::read(frames.join("frame_0001.png")).unwrap()
+    );
+}
