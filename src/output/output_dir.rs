@@ -40,13 +40,27 @@ fn partial_of(name: &str) -> Option<&str> {
 /// `meshes/` or `surfaces/` (frames, surfaces, their hidden partial and
 /// temporary files, the ParaView collection).
 fn ours_inside(name: &str) -> bool {
-    (name.starts_with("frame_") && (name.ends_with(".png") || name.ends_with(".vtu")))
+    numbered(name, "frame_", &[".png", ".vtu"])
         || name == "frames.pvd"
         || (name.starts_with(".frame_") && name.ends_with(".partial"))
-        || (name.starts_with("surface_") && (name.ends_with(".obj") || name.ends_with(".ply")))
+        || numbered(name, "surface_", &[".obj", ".ply"])
         || (name.starts_with(".surface_") && name.ends_with(".tmp"))
         || partial_of(name).is_some_and(ours_inside)
         || spare_of(name).is_some_and(ours_inside)
+}
+
+/// Whether `name` is `PREFIX` + a frame number + one of `extensions`, as
+/// elasto names frames and surfaces (`frame_0042.png`; at least 4 digits,
+/// more in runs of 10 000 frames or more): `frame_abc.png` or
+/// `frame_0042-notes.png` are the user's.
+fn numbered(name: &str, prefix: &str, extensions: &[&str]) -> bool {
+    let Some(rest) = name.strip_prefix(prefix) else {
+        return false;
+    };
+    extensions.iter().any(|extension| {
+        rest.strip_suffix(extension)
+            .is_some_and(|digits| digits.len() >= 4 && digits.bytes().all(|b| b.is_ascii_digit()))
+    })
 }
 
 /// The name a spare file stands for (`.frame_0042.png.spare`: the frame
