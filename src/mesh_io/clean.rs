@@ -62,6 +62,8 @@ pub struct ImportReport {
     pub dropped_vertices: usize,
     /// Used vertices merged into an earlier one within `merge_tolerance`.
     pub merged_vertices: usize,
+    /// Simplices with the same corner positions as an earlier one, dropped.
+    pub duplicate_elements: usize,
     /// Connected pieces (bodies) of the mesh.
     pub pieces: usize,
 }
@@ -116,6 +118,19 @@ impl fmt::Display for ImportReport {
                 plural("vertex", self.merged_vertices)
             )?;
         }
+        if self.duplicate_elements > 0 {
+            let simplex = if self.dimension == 2 {
+                "triangle"
+            } else {
+                "tetrahedron"
+            };
+            write!(
+                f,
+                "; dropped {} duplicate {} (the same corners as an earlier one)",
+                self.duplicate_elements,
+                plural(simplex, self.duplicate_elements)
+            )?;
+        }
         Ok(())
     }
 }
@@ -136,8 +151,12 @@ impl fmt::Display for ImportReport {
 ///    over `d!` (the threshold of [`Mesh::new`]) is degenerate, an error naming
 ///    it; a negative one is re-oriented by swapping its second and third
 ///    vertices, unless `orient = false`, where it is an error;
-/// 4. vertices that no simplex uses are dropped;
-/// 5. connected pieces (simplices sharing a vertex belong to one piece) are
+/// 4. a simplex whose corners are at the same positions as an earlier
+///    one's (in any order: the same element listed twice, or a piece of
+///    the file repeated with vertices of its own) is dropped and counted,
+///    so that no mass or stiffness is counted twice;
+/// 5. vertices that no simplex uses are dropped;
+/// 6. connected pieces (simplices sharing a vertex belong to one piece) are
 ///    counted: several pieces are fine, they are several bodies.
 pub fn clean<const D: usize>(
     imported: ImportedMesh,
@@ -177,6 +196,8 @@ pub fn clean<const D: usize>(
     let nodes = D + 1;
     let mut simplices: Vec<Vec<usize>> = Vec::with_capacity(imported.simplex_count());
     let mut reoriented = 0;
+    let mut seen_corners = std::collections::HashSet::with_capacity(imported.simplex_count());
+    let mut duplicate_elements = 0;
     for e in 0..imported.simplex_count() {
         let original = imported.simplex(e);
         let mut simplex: Vec<usize> = original.iter().map(|&v| representative[v]).collect();
@@ -204,6 +225,10 @@ pub fn clean<const D: usize>(
             simplex.swap(1, 2);
             reoriented += 1;
         }
+        if !seen_corners.insert(corner_key(&points, &simplex)) {
+            duplicate_elements += 1;
+            continue;
+        }
         debug_assert_eq!(simplex.len(), nodes);
         simplices.push(simplex);
     }
@@ -227,7 +252,9 @@ pub fn clean<const D: usize>(
             *v = new_index[*v];
         }
     }
-    let dropped_vertices = used.iter().filter(|u| !**u).count();
+    // Every file vertex is kept, merged into another, or dropped (unused,
+    // or used only by duplicate simplices).
+    let dropped_vertices = n.saturating_sub(positions.len() + merged_vertices);
     let pieces = count_pieces(positions.len(), &simplices);
     let mesh = Mesh::new(positions, simplices).map_err(|source| MeshImportError::Mesh {
         path: path.clone(),
@@ -243,9 +270,28 @@ pub fn clean<const D: usize>(
         reoriented,
         dropped_vertices,
         merged_vertices,
+        duplicate_elements,
         pieces,
     };
     Ok((mesh, report))
+}
+
+/// A simplex's corner positions as exact bit patterns, sorted: equal for
+/// two simplices with the same corners in any order.
+fn corner_key<const D: usize>(points: &[Vector<D>], simplex: &[usize]) -> Vec<[u64; 3]> {
+    let mut corners: Vec<[u64; 3]> = simplex
+        .iter()
+        .map(|&v| {
+            let mut bits = [0; 3];
+            for (b, x) in bits.iter_mut().zip(points[v].iter()) {
+                // +0 and -0 are one position.
+                *b = (x + 0.0).to_bits();
+            }
+            bits
+        })
+        .collect();
+    corners.sort_unstable();
+    corners
 }
 
 fn validate<const D: usize>(options: &ImportOptions<D>) -> Result<(), MeshImportError> {
