@@ -141,7 +141,9 @@ impl fmt::Display for ImportReport {
 /// 1. every vertex is transformed: `x' = R_z R_y R_x (s x) + t`, i.e. scaled by
 ///    `scale`, rotated by `rotate[0]` degrees about x, then `rotate[1]` about y,
 ///    then `rotate[2]` about z (right-handed, counter-clockwise seen from the
-///    positive axis), then translated by `translate`;
+///    positive axis), then translated by `translate`; a used vertex beyond
+///    the renderer's `±3.4e38` (in the file or after the transforms) is an
+///    error naming it;
 /// 2. with `merge_tolerance > 0`, each used vertex closer than the tolerance
 ///    (after the transforms, in scene length units) to an earlier kept vertex
 ///    is merged into the earliest such one (a spatial hash with cells of the
@@ -186,6 +188,27 @@ pub fn clean<const D: usize>(
     let mut used = vec![false; n];
     for &v in &imported.simplices {
         used[v] = true;
+    }
+    // Coordinates beyond f32's range: every edge length and volume computed
+    // from them overflows, so this is said before any element is judged.
+    let limit = f64::from(f32::MAX);
+    if let Some((v, value)) = (0..n).filter(|&v| used[v]).find_map(|v| {
+        points[v]
+            .iter()
+            .find(|x| !(x.abs() <= limit))
+            .map(|&x| (v, x))
+    }) {
+        let in_file = imported.points[v].iter().any(|x| !(x.abs() <= limit));
+        return Err(MeshImportError::OutOfRange {
+            path,
+            vertex: imported.point_labels[v],
+            value,
+            after: if in_file {
+                ""
+            } else {
+                " after scale, rotate and translate"
+            },
+        });
     }
     let (representative, merged_vertices) = if options.merge_tolerance > 0.0 {
         merge_close(&points, &used, options.merge_tolerance)

@@ -171,6 +171,23 @@ pub enum MeshImportError {
         /// The coordinate.
         value: f64,
     },
+    /// A vertex beyond the range the renderer's 32-bit floats hold, in the
+    /// file or after the transforms.
+    #[error(
+        "{}: vertex {vertex} lies at {value:e}{after}, beyond ±3.4e38: images are drawn in \
+         32-bit floats, which hold magnitudes up to 3.4e38",
+        path.display()
+    )]
+    OutOfRange {
+        /// The file.
+        path: PathBuf,
+        /// The vertex, in the file's numbering.
+        vertex: i64,
+        /// The coordinate.
+        value: f64,
+        /// `""`, or what moved it there (`" after scale, rotate and translate"`).
+        after: &'static str,
+    },
     /// An element with (numerically) zero volume.
     #[error(
         "{}: element {element} with vertices {vertices:?} is degenerate (signed volume {volume:.3e})",

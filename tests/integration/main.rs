@@ -55,6 +55,7 @@ mod regression_input_file_blocked_or_hid_its_cause;
 mod regression_interrupt_left_partial_video;
 mod regression_loose_tolerance_froze_the_body;
 mod regression_mesh_header_counts_trusted;
+mod regression_overflowing_coordinates_called_degenerate;
 mod regression_rayon_threads_unchecked;
 mod regression_silent_bad_results;
 mod regression_stdout_write_panicked;
