@@ -63,6 +63,9 @@ fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
     let effects = scene.effect_names();
     let render = scene.render();
     let _ = writeln!(s, "scene `{}` ({}) is valid", scene.name(), source.label);
+    for warning in scene.warnings() {
+        let _ = writeln!(s, "  warning         {warning}");
+    }
     let _ = writeln!(s, "  dimension       {}", scene.dimension());
     let _ = writeln!(
         s,

@@ -74,6 +74,9 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         source: &source,
         overrides: &overrides,
     };
+    for warning in scene.warnings() {
+        eprintln!("elasto: warning: {warning}");
+    }
     match &scene {
         Scene::Two(config) => run_scene(config, &plan, input),
         Scene::Three(config) => run_scene(config, &plan, input),

@@ -13,7 +13,7 @@ use crate::energy::ElementField;
 use crate::integrator::IntegratorKind;
 use crate::material::Material;
 use crate::material::{MaterialModel, YoungPoisson};
-use crate::math::Vector;
+use crate::math::{UP_AXIS, Vector};
 use crate::mesh::{Mesh, MeshError};
 use crate::mesh_io::{ImportOptions, ImportReport};
 use crate::render::RenderSettings;
@@ -197,6 +197,19 @@ impl<const D: usize> MeshConfig<D> {
                 let positions = f.mesh.rest_positions();
                 (positions.iter().any(inside), positions.iter().all(inside))
             }
+        }
+    }
+
+    /// The lowest rest coordinate of the mesh along `axis`.
+    pub fn lowest(&self, axis: usize) -> f64 {
+        match self {
+            MeshConfig::Box(b) => b.offset[axis],
+            MeshConfig::File(f) => f
+                .mesh
+                .rest_positions()
+                .iter()
+                .map(|x| x[axis])
+                .fold(f64::INFINITY, f64::min),
         }
     }
 
@@ -396,6 +409,29 @@ impl<const D: usize> Default for SceneConfig<D> {
 }
 
 impl<const D: usize> SceneConfig<D> {
+    /// See [`Scene::warnings`].
+    pub fn warnings(&self) -> Vec<String> {
+        let mut warnings = Vec::new();
+        if let Some(ground) = self.effects.ground {
+            let lowest = self
+                .bodies
+                .iter()
+                .map(|b| b.mesh.lowest(UP_AXIS))
+                .fold(f64::INFINITY, f64::min);
+            let gap = lowest - ground.height;
+            if gap < ground.activation_distance {
+                warnings.push(format!(
+                    "effects.ground.a = {} is more than the gap of {} the bodies start at above \
+                     the ground: the barrier pushes them up from the first step (lower `a`, or \
+                     raise the mesh, to start them at rest)",
+                    super::num(ground.activation_distance),
+                    super::num(gap)
+                ));
+            }
+        }
+        warnings
+    }
+
     /// Number of vertices of all bodies.
     pub fn vertex_count(&self) -> usize {
         self.bodies.iter().map(|b| b.mesh.vertex_count()).sum()
@@ -531,6 +567,13 @@ impl Scene {
     /// What importing each mesh file found (bodies with a box mesh have none).
     pub fn import_reports(&self) -> Vec<&ImportReport> {
         common!(self, c => c.bodies.iter().filter_map(|b| b.mesh.import_report()).collect())
+    }
+
+    /// What a valid scene may still do that its author did not mean, said
+    /// before a run: a ground barrier wider than the gap the bodies start
+    /// at pushes them up from the first step.
+    pub fn warnings(&self) -> Vec<String> {
+        common!(self, c => c.warnings())
     }
 
     /// Ground height, when there is a ground.

@@ -47,6 +47,7 @@ mod mesh_import;
 mod moving_boundaries;
 mod readme_manual;
 mod regression_bad_input_caught_late;
+mod regression_barrier_wider_than_the_gap_was_silent;
 mod regression_duplicate_elements_doubled_the_mass;
 mod regression_force_removed_frames_it_never_wrote;
 mod regression_full_disk_left_cut_files;
