@@ -140,7 +140,8 @@ impl AppError {
                 OutputError::NotEmpty { .. }
                 | OutputError::NotADirectory { .. }
                 | OutputError::Symlink { .. }
-                | OutputError::InTheWay { .. },
+                | OutputError::InTheWay { .. }
+                | OutputError::InUse { .. },
             ) => 2,
             AppError::Output(OutputError::Io { .. }) => 1,
             AppError::Simulation { .. }

@@ -161,7 +161,7 @@ fn run_scene<const D: usize>(
     // 2. The output folder: refused (untouched) when it holds anything, unless
     //    --force; even then links and things in the way of the outputs are.
     let out = OutputDir::check(&plan.out, plan.force, &plan.writes())?;
-    out.prepare()?;
+    let _lock = out.prepare()?;
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
     let stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
     let mut log = FrameLog::new(stats, plan.render, plan.profile.is_some());

@@ -193,7 +193,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
 
     // 4. The outputs.
     let table = StudyTable { keys, rows };
-    out.prepare()?;
+    let _lock = out.prepare()?;
     out.write("study.csv", &table.csv())?;
     out.write("study.md", &table.markdown())?;
     let error_axis = match table.rows.iter().find_map(|r| r.errors) {

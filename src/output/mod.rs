@@ -14,7 +14,7 @@ mod surface_writer;
 
 pub use mesh_series_writer::MeshSeriesWriter;
 pub use number_text::format_number;
-pub use output_dir::OutputDir;
+pub use output_dir::{FolderLock, OutputDir};
 pub use output_error::OutputError;
 pub use stats_writer::{PendingRow, RenderTimes, StatsWriter, stats_columns};
 pub use surface_writer::{

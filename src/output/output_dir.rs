@@ -15,6 +15,37 @@ const OWNED_FILES: &[&str] = &[
 /// Sub-folders whose `frame_*` files and `frames.pvd` a run writes.
 const OWNED_FOLDERS: &[&str] = &["frames", "meshes", "surfaces"];
 
+/// The exclusive lock on an output folder held while a run writes into it
+/// (released when dropped, or when the process ends however it ends).
+#[derive(Debug)]
+pub struct FolderLock {
+    /// The folder, open (on Unix; elsewhere nothing is locked).
+    _folder: Option<std::fs::File>,
+}
+
+impl FolderLock {
+    /// Locks `path` (a folder) or says that another process holds it.
+    fn take(path: &Path) -> Result<Self, OutputError> {
+        if !cfg!(unix) {
+            return Ok(Self { _folder: None });
+        }
+        let folder = std::fs::File::open(path).map_err(OutputError::io("open folder", path))?;
+        match folder.try_lock() {
+            Ok(()) => Ok(Self {
+                _folder: Some(folder),
+            }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(OutputError::InUse {
+                path: path.to_owned(),
+            }),
+            Err(std::fs::TryLockError::Error(source)) => Err(OutputError::Io {
+                action: "lock folder",
+                path: path.to_owned(),
+                source,
+            }),
+        }
+    }
+}
+
 /// An output folder that is ready to be written.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct OutputDir {
@@ -105,9 +136,16 @@ impl OutputDir {
     /// `surfaces/surface_*.obj|ply`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
     /// [`OutputDir::check`] has made sure that none of these is a link.
-    pub fn prepare(&self) -> Result<(), OutputError> {
+    ///
+    /// The folder is locked first (an exclusive advisory lock on the folder
+    /// itself, so no file is left behind): a second elasto preparing the
+    /// same folder while the returned [`FolderLock`] lives is refused with
+    /// [`OutputError::InUse`] before it removes anything. Keep the lock for
+    /// as long as the run writes.
+    pub fn prepare(&self) -> Result<FolderLock, OutputError> {
         std::fs::create_dir_all(&self.path)
             .map_err(OutputError::io("create folder", &self.path))?;
+        let lock = FolderLock::take(&self.path)?;
         for name in OWNED_FILES {
             remove_if_file(&self.path.join(name))?;
         }
@@ -127,7 +165,7 @@ impl OutputDir {
                 remove_if_file(&entry.path())?;
             }
         }
-        Ok(())
+        Ok(lock)
     }
 
     /// The folder.

@@ -40,6 +40,14 @@ pub enum OutputError {
         /// What the run writes there ("the folder of frames", ...).
         expected: &'static str,
     },
+    /// Another elasto process is writing into the folder now.
+    #[error(
+        "another elasto is writing into the output folder {path} now; wait for it to finish, or choose another folder with --out"
+    )]
+    InUse {
+        /// The folder.
+        path: PathBuf,
+    },
     /// An I/O operation on a file or folder failed.
     #[error("cannot {action} {path}")]
     Io {
