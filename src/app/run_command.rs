@@ -127,6 +127,23 @@ impl Plan {
     }
 }
 
+/// The thread opening the graphics adapter while the run sets up, joined
+/// when dropped: a run that stops early (a bad output folder, a failed
+/// setup) must not exit while that thread is inside the graphics driver,
+/// whose exit handlers then crash the process (SIGSEGV or SIGABRT instead
+/// of exit code 2).
+struct AdapterCheck(
+    Option<std::thread::JoinHandle<Result<(u32, u64), crate::render::RenderError>>>,
+);
+
+impl Drop for AdapterCheck {
+    fn drop(&mut self) {
+        if let Some(thread) = self.0.take() {
+            let _ = thread.join();
+        }
+    }
+}
+
 fn run_scene<const D: usize>(
     config: &SceneConfig<D>,
     plan: &Plan,
@@ -141,11 +158,15 @@ fn run_scene<const D: usize>(
     // for llvmpipe), so it is opened on a thread of its own, and the
     // simulation starts meanwhile and stops at the first frame after the
     // answer if it is no.
-    let mut adapter_check = plan
-        .render
-        .then(|| std::thread::spawn(crate::render::max_image_size));
+    let mut adapter_check = AdapterCheck(
+        plan.render
+            .then(|| std::thread::spawn(crate::render::max_image_size)),
+    );
     let mut check_adapter = |wait: bool| -> Result<(), AppError> {
-        match adapter_check.take_if(|thread| wait || thread.is_finished()) {
+        match adapter_check
+            .0
+            .take_if(|thread| wait || thread.is_finished())
+        {
             Some(thread) => {
                 let limits = thread
                     .join()
