@@ -103,10 +103,10 @@ fn spare_of(name: &str) -> Option<&str> {
 
 impl OutputDir {
     /// Checks `path` without touching anything: it must not be a symbolic
-    /// link, and it must not exist, be an empty folder, or (with `force`) be a folder in which nothing elasto
-    /// replaces or clears is a symbolic link, and nothing else sits where
-    /// this run writes one of `writes` (top-level names: `scene.toml`,
-    /// `frames`, `video.png`, ...).
+    /// link, and it must not exist, be an empty folder, or (with `force`)
+    /// be a folder in which nothing elasto replaces or clears is a symbolic
+    /// link, and nothing else sits where this run writes one of `writes`
+    /// (top-level names: `scene.toml`, `frames`, `video.png`, ...).
     pub fn check(path: &Path, force: bool, writes: &[&str]) -> Result<Self, OutputError> {
         // The folder itself a link (to a folder, or dangling): writing into
         // it would write, and with --force delete, where the link points.
