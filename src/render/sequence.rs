@@ -220,6 +220,13 @@ impl SequenceWriter {
     }
 
     fn send(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
+        // The first error an encoder reported (kept by `take_costs` between
+        // pushes) is the one the run stops with, with its file and cause;
+        // only later pushes get the generic refusal.
+        self.take_reports();
+        if let Some(error) = self.error.take() {
+            return Err(error);
+        }
         if self.failed {
             return Err(RenderError::InvalidInput(
                 "an earlier frame failed; the run cannot continue".into(),
@@ -230,10 +237,6 @@ impl SequenceWriter {
                 "the run has {} frames, cannot add another",
                 self.frame_count
             )));
-        }
-        self.take_reports();
-        if let Some(error) = self.error.take() {
-            return Err(error);
         }
         let index = self.pushed;
         let (image, timings) =

@@ -104,3 +104,34 @@ fn a_scene_file_that_cannot_be_written_whole_is_not_left_cut() {
     let files = files_under(&tmp.path().join("out"));
     assert!(!files.iter().any(|f| f.contains("scene.toml")), "{files:?}");
 }
+
+/// Issue 33, item 16: a full disk while rendering said only "cannot render:
+/// an earlier frame failed; the run cannot continue" (the encoder's error,
+/// kept between frames, was checked after the generic refusal). Now the run
+/// stops with the first error: the frame file and the OS cause.
+#[test]
+fn a_full_disk_while_rendering_names_the_frame_and_the_cause() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = elasto_with_file_size_limit(
+        tmp.path(),
+        8192,
+        &[
+            "run",
+            "--frames",
+            "12",
+            "--resolution",
+            "640x480",
+            "-q",
+            "-o",
+            "o",
+        ],
+    );
+    assert_code(&o, 1);
+    let err = stderr(&o);
+    assert!(
+        err.contains("cannot write o/frames/frame_0")
+            && err.contains("File too large")
+            && !err.contains("an earlier frame failed"),
+        "{err}"
+    );
+}
