@@ -52,7 +52,17 @@ pub(super) fn analyse_symbolic(
             ..Default::default()
         },
     )
-    .map_err(|e| FactorisationError(format!("{e:?}")))
+    .map_err(|e| {
+        FactorisationError(match e {
+            faer::sparse::FaerError::OutOfMemory => {
+                "not enough memory for the symbolic factorisation".to_owned()
+            }
+            faer::sparse::FaerError::IndexOverflow => {
+                "the factor has more entries than an index can count".to_owned()
+            }
+            _ => "the symbolic factorisation failed".to_owned(),
+        })
+    })
 }
 
 impl SparseCholesky {
@@ -125,7 +135,19 @@ impl SparseCholesky {
                 stack,
                 Default::default(),
             )
-            .map_err(|e| FactorisationError(format!("{e:?}")))?;
+            .map_err(
+                |faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| {
+                    FactorisationError(format!(
+                        "the system matrix is not positive definite in floating point (pivot {} of \
+                     {} is not positive): the masses are lost to round-off beside dt² times the \
+                     stiffness, or a barrier's curvature swamps the rest; a larger \
+                     material.density, a smaller time step or a barrier closer to its default \
+                     may help",
+                        index + 1,
+                        matrix.nrows()
+                    ))
+                },
+            )?;
         Ok(())
     }
 

@@ -59,6 +59,7 @@ mod regression_mesh_header_counts_trusted;
 mod regression_overflowing_coordinates_called_degenerate;
 mod regression_rayon_threads_unchecked;
 mod regression_silent_bad_results;
+mod regression_solver_failure_spoke_debug;
 mod regression_stdout_write_panicked;
 mod regression_stvk_folded_inside_out;
 mod regression_sweep_collect_wrote_runs_that_never_ran;
