@@ -455,12 +455,7 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
 
     fn coupled_pairs(&self, pairs: &mut Vec<(usize, usize)>) {
         for &k in &self.active {
-            let corners = self.stencils[k].corners();
-            for (i, &a) in corners.iter().enumerate() {
-                for &b in &corners[i + 1..] {
-                    pairs.push((a, b));
-                }
-            }
+            super::push_corner_pairs(self.stencils[k].corners(), pairs);
         }
     }
 

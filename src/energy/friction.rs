@@ -117,9 +117,7 @@ impl<const D: usize> EnergyTerm<D> for Friction<D> {
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
         for stencil in &self.stencils {
             let local = stencil.derivatives(x, self.slip_threshold);
-            for (&w, &v) in stencil.weights.iter().zip(stencil.corners()) {
-                gradient[v] += local.gradient * (scale * w);
-            }
+            add_stencil_gradient(stencil, &local.gradient, scale, gradient);
         }
     }
 
@@ -139,22 +137,27 @@ impl<const D: usize> EnergyTerm<D> for Friction<D> {
     ) {
         for stencil in &self.stencils {
             let local = stencil.derivatives(x, self.slip_threshold);
-            for (&w, &v) in stencil.weights.iter().zip(stencil.corners()) {
-                gradient[v] += local.gradient * (scale * w);
-            }
+            add_stencil_gradient(stencil, &local.gradient, scale, gradient);
             add_stencil_blocks(stencil, &(local.hessian * scale), hessian);
         }
     }
 
     fn coupled_pairs(&self, pairs: &mut Vec<(usize, usize)>) {
         for stencil in &self.stencils {
-            let corners = stencil.corners();
-            for (i, &a) in corners.iter().enumerate() {
-                for &b in &corners[i + 1..] {
-                    pairs.push((a, b));
-                }
-            }
+            super::push_corner_pairs(stencil.corners(), pairs);
         }
+    }
+}
+
+/// Adds `scale w_a g` to each corner `a` of a stencil.
+fn add_stencil_gradient<const D: usize>(
+    stencil: &FrictionStencil<D>,
+    g: &Vector<D>,
+    scale: f64,
+    gradient: &mut [Vector<D>],
+) {
+    for (&w, &v) in stencil.weights.iter().zip(stencil.corners()) {
+        gradient[v] += g * (scale * w);
     }
 }
 

@@ -104,6 +104,17 @@ impl std::fmt::Display for Blocker {
     }
 }
 
+/// Appends every pair of a stencil's `corners` (for
+/// [`EnergyTerm::coupled_pairs`] of the terms that couple stencils: the
+/// contact barrier and friction).
+pub(crate) fn push_corner_pairs(corners: &[usize], pairs: &mut Vec<(usize, usize)>) {
+    for (i, &a) in corners.iter().enumerate() {
+        for &b in &corners[i + 1..] {
+            pairs.push((a, b));
+        }
+    }
+}
+
 /// One additive term of the incremental potential.
 pub trait EnergyTerm<const D: usize>: Send + Sync {
     /// A short name for statistics ("elastic", "gravity", "barrier", ...).
