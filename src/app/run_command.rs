@@ -442,7 +442,9 @@ impl FrameLog {
         if let Some(profile) = &mut self.profile
             && frame > 0
         {
-            let contact = stats.contact.map(|c| [c.broad_phase, c.ccd]);
+            let contact = stats
+                .contact
+                .map(|c| [c.broad_phase, c.ccd, c.assembly, stats.times.pattern_growth]);
             profile.simulated(&stats.times, stats.wall_time, contact);
         }
         let row = self.stats.row(frame, stats);

@@ -36,14 +36,23 @@ const PHASES: [&str; 10] = [
     "video encode + write",
 ];
 const SIMULATION_PHASES: usize = 5;
+/// The rows of a contact scene's own work, within the solver's phases.
+const CONTACT_ROWS: [&str; 4] = [
+    "  contact broad phase",
+    "  contact CCD",
+    "  contact assembly",
+    "  pattern growth",
+];
 
 /// Per-frame durations of every phase.
 #[derive(Debug, Default)]
 pub struct RunProfile {
     simulated: Vec<[Duration; SIMULATION_PHASES]>,
     /// Per simulated frame of a contact scene: the broad phase (part of
-    /// assembly and line search) and CCD (part of the line search).
-    contact: Vec<[Duration; 2]>,
+    /// assembly and line search), CCD (part of the line search), the
+    /// stencils' derivatives and assembly, and the pattern's growth (parts
+    /// of assembly).
+    contact: Vec<[Duration; CONTACT_ROWS.len()]>,
     rendered: Vec<[Duration; PHASES.len() - SIMULATION_PHASES]>,
 }
 
@@ -60,12 +69,12 @@ pub struct RunSpans {
 
 impl RunProfile {
     /// Records a simulated frame: its solver phases and its whole wall
-    /// time, and for a contact scene its broad phase and CCD times.
+    /// time, and for a contact scene its contact work ([`CONTACT_ROWS`]).
     pub fn simulated(
         &mut self,
         times: &PhaseTimes,
         wall: Duration,
-        contact: Option<[Duration; 2]>,
+        contact: Option<[Duration; CONTACT_ROWS.len()]>,
     ) {
         self.contact.extend(contact);
         let solver = times.assembly + times.factorisation + times.solve + times.line_search;
@@ -121,8 +130,7 @@ impl RunProfile {
                 total.as_secs_f64()
             );
         }
-        let contact_rows = ["  contact broad phase", "  contact CCD"];
-        for (k, name) in contact_rows.iter().enumerate() {
+        for (k, name) in CONTACT_ROWS.iter().enumerate() {
             let values: Vec<Duration> = self.contact.iter().map(|row| row[k]).collect();
             if values.is_empty() {
                 continue;
@@ -206,6 +214,7 @@ mod tests {
                 factorisation: ms(3),
                 solve: ms(1),
                 line_search: ms(1),
+                pattern_growth: Duration::ZERO,
             };
             profile.simulated(&times, ms(wall), None);
         }
@@ -232,13 +241,25 @@ mod tests {
         assert_eq!(row(&table, "wall time of the run"), ["1.500"]);
         // No contact: no contact rows.
         assert!(!table.contains("contact"));
-        profile.simulated(&PhaseTimes::default(), ms(5), Some([ms(2), ms(1)]));
+        profile.simulated(
+            &PhaseTimes::default(),
+            ms(5),
+            Some([ms(2), ms(1), ms(4), ms(3)]),
+        );
         let table = profile.table(&spans(span(1500, None), None, None), 2);
         assert_eq!(
             row(&table, "  contact broad phase")[..3],
             ["1", "2.000", "0.002"]
         );
         assert_eq!(row(&table, "  contact CCD")[..3], ["1", "1.000", "0.001"]);
+        assert_eq!(
+            row(&table, "  contact assembly")[..3],
+            ["1", "4.000", "0.004"]
+        );
+        assert_eq!(
+            row(&table, "  pattern growth")[..3],
+            ["1", "3.000", "0.003"]
+        );
     }
 
     #[test]

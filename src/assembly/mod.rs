@@ -29,10 +29,14 @@
 //!    each Newton iteration (`EnergyTerm::coupled_pairs`: the corners of the
 //!    active contact stencils).
 //! 2. [`SparseHessian::include_pairs`] looks each declared pair up in the
-//!    pattern. Only if some pair is new is the pattern rebuilt (column
-//!    pointers, row indices, gather lists, the elimination order) **and the
-//!    symbolic factorisation redone** ([`SparseHessian::analyses`] counts
-//!    them); pairs that fall out of range stay in the pattern with zero
+//!    pattern. Only if some pair is new does the pattern grow: the new
+//!    entries are merged into each column, and since entries are only
+//!    inserted, every stored entry keeps its gather sources (one pass, no
+//!    sort); the elimination order is computed again in the kind the first
+//!    analysis chose (nested dissection or AMD), **and the symbolic
+//!    factorisation redone** ([`SparseHessian::analyses`] counts them). A
+//!    grown pattern is exactly the one built with all its pairs at once.
+//!    Pairs that fall out of range stay in the pattern with zero
 //!    blocks, so a contact that flickers on and off costs no re-analysis, and
 //!    once the pattern holds every pair a scene needs, an iteration allocates
 //!    nothing for it.
@@ -47,5 +51,5 @@ mod nested_dissection;
 mod sparse_cholesky;
 mod sparse_hessian;
 
-pub use sparse_cholesky::{FactorisationError, SparseCholesky};
+pub use sparse_cholesky::{FactorisationError, OrderKind, SparseCholesky};
 pub use sparse_hessian::{SparseHessian, element_slot_index, element_slot_len};

@@ -34,8 +34,19 @@ pub struct FactorisationError(pub String);
 /// for its numeric factor and the solver's workspace.
 pub struct SparseCholesky {
     symbolic: SymbolicCholesky<usize>,
+    /// Which elimination order the analysis kept.
+    order_kind: OrderKind,
     factor_values: Vec<f64>,
     workspace: MemBuffer,
+}
+
+/// The kind of elimination order a [`SparseCholesky`] was analysed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OrderKind {
+    /// The caller's order (the nested dissection).
+    Given,
+    /// faer's approximate minimum degree.
+    Amd,
 }
 
 /// The supernodal symbolic factorisation of `pattern` in the elimination order `ordering`.
@@ -85,7 +96,7 @@ impl SparseCholesky {
     ) -> Result<Self, FactorisationError> {
         let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx);
         let amd = analyse_symbolic(pattern, SymmetricOrdering::Amd)?;
-        let symbolic = match order {
+        let (symbolic, order_kind) = match order {
             Some((forward, inverse)) => {
                 let given = analyse_symbolic(
                     pattern,
@@ -93,24 +104,61 @@ impl SparseCholesky {
                 )?;
                 // Ties go to the given order (deterministic either way).
                 if amd.len_val() < given.len_val() {
-                    amd
+                    (amd, OrderKind::Amd)
                 } else {
-                    given
+                    (given, OrderKind::Given)
                 }
             }
-            None => amd,
+            None => (amd, OrderKind::Amd),
         };
+        Ok(Self::with_symbolic(symbolic, order_kind))
+    }
+
+    /// The analysis of a grown pattern (a superset of the one analysed, as
+    /// when contact pairs join it) in the same kind of order as this one:
+    /// the given `order` if that kept it (an order must then be given),
+    /// else AMD. One symbolic analysis instead of two: the pattern grows by
+    /// a few pairs at a time, which does not change which kind fills less.
+    pub fn reanalyse(
+        &self,
+        dofs: usize,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+        order: Option<(&[usize], &[usize])>,
+    ) -> Result<Self, FactorisationError> {
+        let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx);
+        let ordering = match (self.order_kind, order) {
+            (OrderKind::Given, Some((forward, inverse))) => {
+                SymmetricOrdering::Custom(PermRef::new_checked(forward, inverse, dofs))
+            }
+            _ => SymmetricOrdering::Amd,
+        };
+        let symbolic = analyse_symbolic(pattern, ordering)?;
+        let kind = match ordering {
+            SymmetricOrdering::Custom(_) => OrderKind::Given,
+            _ => OrderKind::Amd,
+        };
+        Ok(Self::with_symbolic(symbolic, kind))
+    }
+
+    /// Which kind of elimination order the analysis kept.
+    pub fn order_kind(&self) -> OrderKind {
+        self.order_kind
+    }
+
+    fn with_symbolic(symbolic: SymbolicCholesky<usize>, order_kind: OrderKind) -> Self {
         let factor_values = vec![0.0; symbolic.len_val()];
         let workspace = MemBuffer::new(
             symbolic
                 .factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default())
                 .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq)),
         );
-        Ok(Self {
+        Self {
             symbolic,
+            order_kind,
             factor_values,
             workspace,
-        })
+        }
     }
 
     /// Factorises `matrix` (same pattern as analysed), keeping `L` for

@@ -53,6 +53,7 @@ use crate::contact::{
 };
 use crate::math::Vector;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 /// Below this many active stencils their derivatives are computed on the
@@ -77,6 +78,9 @@ pub struct ContactCounters {
     pub broad_phase: Duration,
     /// Time in continuous collision detection.
     pub ccd: Duration,
+    /// Time computing the active stencils' derivatives (with their PSD
+    /// projections) and adding them to the gradient and the Hessian.
+    pub assembly: Duration,
     /// CCD queries whose iteration budget ran out (their safe step was used).
     pub ccd_budget_exhausted: usize,
 }
@@ -103,6 +107,9 @@ pub struct ContactBarrier<const D: usize> {
     barrier_gradient: Vec<Vector<D>>,
     ccd: CcdSettings,
     counters: ContactCounters,
+    /// Nanoseconds of [`ContactCounters::assembly`] spent in the `&self`
+    /// methods that add the stencils to a gradient and Hessian.
+    scatter_nanos: AtomicU64,
 }
 
 impl<const D: usize> ContactBarrier<D> {
@@ -134,6 +141,7 @@ impl<const D: usize> ContactBarrier<D> {
             barrier_gradient: Vec::new(),
             ccd: CcdSettings::default(),
             counters: ContactCounters::default(),
+            scatter_nanos: AtomicU64::new(0),
         };
         let (min, max) = term.stiffness_bounds(1.0);
         term.stiffness = settings.stiffness.unwrap_or(min);
@@ -164,7 +172,17 @@ impl<const D: usize> ContactBarrier<D> {
 
     /// The work done so far.
     pub fn counters(&self) -> ContactCounters {
-        self.counters
+        let scatter = Duration::from_nanos(self.scatter_nanos.load(Ordering::Relaxed));
+        ContactCounters {
+            assembly: self.counters.assembly + scatter,
+            ..self.counters
+        }
+    }
+
+    /// Adds the time since `start` to the assembly counter (from `&self`).
+    fn count_scatter(&self, start: Instant) {
+        let nanos = u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.scatter_nanos.fetch_add(nanos, Ordering::Relaxed);
     }
 
     /// `(kappa_min, kappa_max)` for the integrator weight `w`.
@@ -314,6 +332,7 @@ impl<const D: usize> ContactBarrier<D> {
     }
 
     fn compute_active_derivatives(&mut self, x: &[Vector<D>]) {
+        let start = Instant::now();
         let (stencils, active, activation) =
             (&self.stencils, &self.active, self.squared_activation);
         let derive = |&k: &usize| stencils[k].energy_derivatives(x, activation);
@@ -326,6 +345,7 @@ impl<const D: usize> ContactBarrier<D> {
                 .map(derive)
                 .collect_into_vec(&mut self.derivatives);
         }
+        self.counters.assembly += start.elapsed();
     }
 }
 
@@ -389,6 +409,7 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
     }
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
+        let start = Instant::now();
         for &k in &self.active {
             let stencil = &self.stencils[k];
             if let Some(local) = stencil.energy_derivatives(x, self.squared_activation) {
@@ -398,6 +419,7 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
                 );
             }
         }
+        self.count_scatter(start);
     }
 
     fn add_gradient_and_hessian(
@@ -409,6 +431,7 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
     ) {
         // The derivatives were computed for the active stencils by
         // `begin_iteration` at this same iterate.
+        let start = Instant::now();
         let weight = scale * self.stiffness;
         for (&k, local) in self.active.iter().zip(&self.derivatives) {
             if let Some(local) = local {
@@ -417,6 +440,7 @@ impl<const D: usize> EnergyTerm<D> for ContactBarrier<D> {
                 hessian.add_stencil(stencil.corners(), &(local.hessian * weight));
             }
         }
+        self.count_scatter(start);
     }
 
     fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {

@@ -65,6 +65,9 @@ pub struct ContactStats {
     pub broad_phase: Duration,
     /// Wall time in continuous collision detection.
     pub ccd: Duration,
+    /// Wall time computing the active stencils' derivatives and adding them
+    /// to the gradient and Hessian.
+    pub assembly: Duration,
     /// CCD queries that ran out of their iteration budget (a safe step was used).
     pub ccd_budget_exhausted: usize,
 }

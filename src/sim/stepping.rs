@@ -528,6 +528,7 @@ impl<const D: usize> Simulation<D> {
             let after = contact.counters();
             stats.broad_phase = after.broad_phase - before.broad_phase;
             stats.ccd = after.ccd - before.ccd;
+            stats.assembly = after.assembly - before.assembly;
             stats.ccd_budget_exhausted = after.ccd_budget_exhausted - before.ccd_budget_exhausted;
         }
         frame.times = totals.times;

@@ -53,6 +53,7 @@ pub fn newton<const D: usize>(
         let iteration = objective
             .begin_iteration(x, Some(hessian))
             .map_err(SolveError::Factorisation)?;
+        stats.times.pattern_growth += iteration.pattern_growth;
         if iteration.reanalysed {
             stats.reanalyses += 1;
             if flat.len() != hessian.dofs() {

@@ -3,6 +3,7 @@
 use crate::assembly::{FactorisationError, SparseHessian};
 use crate::energy::{Blocker, EnergyTerm};
 use crate::math::Vector;
+use std::time::{Duration, Instant};
 
 /// `E(x) = sum_k w_k U_k(x)`: the terms a scene asks for with their weights
 /// (1 for inertia, `dt^2` for the potentials).
@@ -19,6 +20,9 @@ pub struct IterationStart {
     pub energy_changed: bool,
     /// The Hessian's pattern grew and was analysed again.
     pub reanalysed: bool,
+    /// Wall time spent making the pattern hold the coupled pairs (growing
+    /// it, when `reanalysed`).
+    pub pattern_growth: Duration,
 }
 
 impl<'a, const D: usize> Objective<'a, D> {
@@ -48,7 +52,9 @@ impl<'a, const D: usize> Objective<'a, D> {
         if let Some(hessian) = hessian
             && !self.coupled_pairs.is_empty()
         {
+            let clock = Instant::now();
             start.reanalysed = hessian.include_pairs(self.coupled_pairs.iter().copied())?;
+            start.pattern_growth = clock.elapsed();
         }
         Ok(start)
     }

@@ -14,6 +14,9 @@ pub struct PhaseTimes {
     pub solve: Duration,
     /// Line search (step capping, energy evaluations).
     pub line_search: Duration,
+    /// The part of assembly spent growing the Hessian's pattern for new
+    /// contact pairs and analysing it again (`reanalyses`).
+    pub pattern_growth: Duration,
 }
 
 impl std::ops::AddAssign for PhaseTimes {
@@ -22,6 +25,7 @@ impl std::ops::AddAssign for PhaseTimes {
         self.factorisation += other.factorisation;
         self.solve += other.solve;
         self.line_search += other.line_search;
+        self.pattern_growth += other.pattern_growth;
     }
 }
 
