@@ -150,6 +150,13 @@ impl<const D: usize> ContactBarrier<D> {
         term
     }
 
+    /// Whether some stencil was active (closer than `d_hat`) at the last
+    /// state searched (an iterate or a step's start); without one the
+    /// barrier's gradient is zero there.
+    pub fn is_active(&self) -> bool {
+        !self.active.is_empty()
+    }
+
     /// The collision mesh.
     pub fn collision_mesh(&self) -> &CollisionMesh {
         &self.mesh
@@ -247,31 +254,34 @@ impl<const D: usize> ContactBarrier<D> {
 
     /// Sets `kappa` by IPC's balance rule at the start of a step (see the
     /// module documentation): `rest_gradient` is the gradient of the
-    /// objective without the contact at `x`, `weight` the integrator's `w`.
-    /// A fixed stiffness is left alone. Uses the stencils found at `x` by
-    /// [`EnergyTerm::begin_step`], which must come first.
+    /// objective without the contact at `x` (`None` when no stencil is
+    /// active there: see [`Self::is_active`]), `weight` the integrator's
+    /// `w`. A fixed stiffness is left alone. Uses the stencils found at `x`
+    /// by [`EnergyTerm::begin_step`], which must come first.
     pub fn balance_stiffness(
         &mut self,
         x: &[Vector<D>],
-        rest_gradient: &[Vector<D>],
+        rest_gradient: Option<&[Vector<D>]>,
         weight: f64,
         free_index: &[Option<usize>],
     ) {
         if !self.is_adaptive() {
             return;
         }
-        let mut barrier_gradient = std::mem::take(&mut self.barrier_gradient);
-        barrier_gradient.clear();
-        barrier_gradient.resize(x.len(), Vector::<D>::zeros());
-        self.add_barrier_gradient(x, 1.0, &mut barrier_gradient);
         let (mut dot, mut norm_squared) = (0.0, 0.0);
-        for ((gb, ge), free) in barrier_gradient.iter().zip(rest_gradient).zip(free_index) {
-            if free.is_some() {
-                dot += gb.dot(ge);
-                norm_squared += gb.norm_squared();
+        if let Some(rest_gradient) = rest_gradient.filter(|_| self.is_active()) {
+            let mut barrier_gradient = std::mem::take(&mut self.barrier_gradient);
+            barrier_gradient.clear();
+            barrier_gradient.resize(x.len(), Vector::<D>::zeros());
+            self.add_barrier_gradient(x, 1.0, &mut barrier_gradient);
+            for ((gb, ge), free) in barrier_gradient.iter().zip(rest_gradient).zip(free_index) {
+                if free.is_some() {
+                    dot += gb.dot(ge);
+                    norm_squared += gb.norm_squared();
+                }
             }
+            self.barrier_gradient = barrier_gradient;
         }
-        self.barrier_gradient = barrier_gradient;
         let (min, max) = self.stiffness_bounds(weight);
         self.max_stiffness = max;
         // Without an active stencil, the IPC toolkit's 1 (clamped), in our

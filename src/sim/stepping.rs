@@ -380,13 +380,19 @@ impl<const D: usize> Simulation<D> {
             return;
         }
         let x = &self.positions;
+        if !contact.is_active() {
+            // No barrier gradient to balance against: the rest's gradient
+            // is not needed (the rule's answer without an active stencil).
+            contact.balance_stiffness(x, None, weight, self.hessian.free_index());
+            return;
+        }
         let mut gradient = vec![crate::math::Vector::<D>::zeros(); x.len()];
         self.inertia.add_gradient(x, 1.0, &mut gradient);
         self.elasticity.add_gradient(x, weight, &mut gradient);
         for term in &self.effect_terms {
             term.add_gradient(x, weight, &mut gradient);
         }
-        contact.balance_stiffness(x, &gradient, weight, self.hessian.free_index());
+        contact.balance_stiffness(x, Some(&gradient), weight, self.hessian.free_index());
     }
 
     /// Frees the vertices of every region whose `release` time has come (the
