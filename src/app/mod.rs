@@ -149,6 +149,7 @@ fn setup_error<const D: usize>(
         SimError::BelowGround { .. } if config.bodies.len() > 1 => Some("bodies"),
         SimError::BelowGround { .. } => Some("mesh.offset"),
         SimError::ContactAtStart { .. } => Some("effects.contact"),
+        SimError::BodyInsideBody { .. } => Some("bodies"),
         _ => None,
     };
     match key {

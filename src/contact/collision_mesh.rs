@@ -84,6 +84,11 @@ impl CollisionMesh {
         }
     }
 
+    /// The number of bodies with a surface (one more than the largest body index).
+    pub fn body_count(&self) -> usize {
+        self.vertex_body.iter().max().map_or(0, |b| b + 1)
+    }
+
     /// Surface vertices, as simulation vertex ids (ascending).
     pub fn vertices(&self) -> &[usize] {
         &self.vertices

@@ -18,7 +18,8 @@
 //!    detection, which caps the line search so that no pair ever touches.
 //! 6. [`friction`]: lagged smoothed Coulomb friction on a stencil frozen
 //!    at a step's start (its slip, potential, gradient and Hessian).
-//! 7. [`first_surface_crossing`]: surfaces that cross, for the check that a
+//! 7. [`first_surface_crossing`] and [`first_contained_body`]: surfaces
+//!    that cross and bodies wholly inside others, for the check that a
 //!    scene does not start intersecting.
 //!
 //! The energy term that sums the barrier over the active stencils, with its
@@ -34,6 +35,7 @@ mod candidates;
 pub mod ccd;
 mod collision_free_step;
 mod collision_mesh;
+mod containment;
 pub mod distance;
 pub mod friction;
 mod stencil;
@@ -43,5 +45,6 @@ pub use barrier::{barrier, barrier_derivative, barrier_second_derivative};
 pub use candidates::CandidateFinder;
 pub use collision_free_step::{CollisionFreeStep, collision_free_step};
 pub use collision_mesh::CollisionMesh;
+pub use containment::{Containment, first_contained_body};
 pub use stencil::{ContactStencil, MAX_STENCIL_COORDINATES, StencilEnergy, StencilKind};
 pub use surface_crossing::{SurfaceCrossing, first_surface_crossing};

@@ -16,7 +16,8 @@
 //! Touching configurations (a zero orientation) have a corner at distance 0
 //! from the other primitive, which the distance check finds. Candidates come
 //! from the broad phase with no inflation; pairs that share a vertex are
-//! skipped. A body wholly inside another without any crossing is not found.
+//! skipped. A body wholly inside another without any crossing is found by
+//! [`super::first_contained_body`].
 
 use super::CollisionMesh;
 use super::broad_phase::{Aabb, BroadPhase};

@@ -41,6 +41,21 @@ pub enum SimError {
         /// `d_hat`.
         activation: f64,
     },
+    /// A body starts wholly inside another (no surfaces cross, but one
+    /// encloses the other; bad input).
+    #[error(
+        "body {inner} starts inside body {outer} (its surface vertex {vertex} is enclosed by body \
+         {outer}'s surface): contact needs the bodies apart at the start; move body {inner} \
+         out of body {outer}"
+    )]
+    BodyInsideBody {
+        /// The enclosed body.
+        inner: usize,
+        /// The enclosing body.
+        outer: usize,
+        /// A surface vertex of the enclosed body.
+        vertex: usize,
+    },
     /// Setting up the solver failed although the input was valid (for
     /// example the symbolic analysis of the sparse factorisation).
     #[error("setting up the solver failed: {reason}")]
@@ -69,6 +84,7 @@ impl SimError {
             SimError::InvalidSetting { .. }
                 | SimError::BelowGround { .. }
                 | SimError::ContactAtStart { .. }
+                | SimError::BodyInsideBody { .. }
         )
     }
 }

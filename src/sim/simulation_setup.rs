@@ -14,7 +14,7 @@ use super::{Body, Effects, PinMotion, PinRegion, SimError, Simulation, Simulatio
 use crate::assembly::SparseHessian;
 use crate::contact::{
     CandidateFinder, CollisionMesh, ContactStencil, StencilKind, SurfaceCrossing,
-    first_surface_crossing,
+    first_contained_body, first_surface_crossing,
 };
 use crate::energy::{
     BodyElasticity, ContactBarrier, ContactSettings, EnergyTerm, Friction, FrictionSettings,
@@ -488,6 +488,13 @@ fn contact_barrier<const D: usize>(
             distance,
             owner,
         ));
+    }
+    if let Some(c) = first_contained_body(&collision_mesh, positions) {
+        return Err(SimError::BodyInsideBody {
+            inner: c.inner,
+            outer: c.outer,
+            vertex: c.vertex,
+        });
     }
     let settings = ContactSettings {
         activation_distance: distance,

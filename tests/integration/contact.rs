@@ -266,6 +266,56 @@ fn bodies_that_start_intersecting_are_refused_naming_both() {
     }
 }
 
+#[test]
+fn a_body_that_starts_inside_another_is_refused_naming_both() {
+    let dir = tempfile::tempdir().unwrap();
+    // The upper box made small and put wholly inside the lower one: no
+    // surfaces cross and no pair is within d_hat.
+    let inside = [
+        (
+            2,
+            TWO_BOXES_2D.replace(
+                "size = [0.5, 0.5]\ncells = [3, 3]\noffset = [0.3, 0.9]",
+                "size = [0.2, 0.2]\ncells = [2, 2]\noffset = [0.4, 0.2]",
+            ),
+        ),
+        (
+            3,
+            TWO_BOXES_3D.replace(
+                "size = [0.5, 0.5, 0.5]\ncells = [2, 2, 2]\noffset = [0.2, 0.8, 0.3]",
+                "size = [0.2, 0.1, 0.2]\ncells = [1, 1, 1]\noffset = [0.4, 0.2, 0.4]",
+            ),
+        ),
+    ];
+    for (dimension, scene) in inside {
+        assert!(
+            scene.contains("offset = [0.4, 0.2"),
+            "the scene was changed"
+        );
+        let path = dir.path().join(format!("inside-{dimension}.toml"));
+        std::fs::write(&path, &scene).unwrap();
+        let scene_path = path.to_str().unwrap();
+        for args in [
+            vec!["check", scene_path],
+            vec!["run", scene_path, "--no-render"],
+        ] {
+            let o = elasto(dir.path(), &args);
+            assert_code(&o, 2);
+            let message = stderr(&o);
+            assert!(message.contains("bodies"), "{message}");
+            assert!(message.contains("body 1 starts inside body 0"), "{message}");
+        }
+        // Without contact the same scene runs (bodies pass through).
+        let without = scene.replace("[effects.contact]\ndistance = 0.005\n", "");
+        std::fs::write(&path, without).unwrap();
+        assert_code(&elasto(dir.path(), &["check", scene_path]), 0);
+        assert!(
+            !dir.path().join("out").exists(),
+            "a refused run wrote its folder"
+        );
+    }
+}
+
 /// Runs a scene of the repository (a path under `scenes/`) with `extra`
 /// flags; returns its folder's stats.
 fn run_repository_scene(
