@@ -36,5 +36,5 @@ pub use scene_config::{
     SceneConfig, TimeConfig, image_bytes,
 };
 pub use scene_error::{Diagnostic, Origin, SceneError, approx, num};
-pub use scene_override::SceneOverride;
+pub use scene_override::{KeyPart, SceneOverride};
 pub use scene_source::{BUILTIN_SCENES, BuiltinScene, DEFAULT_SCENE, SceneSource, builtin_scene};
