@@ -42,6 +42,11 @@ pub(crate) struct SceneValidator<'d, 'a> {
 
 type VResult<T> = std::result::Result<T, SceneError>;
 
+/// The widest ground barrier `effects.ground.a`, in multiples of the
+/// scene's size (the bodies' bounding box diagonal plus the gap they start
+/// at above the ground).
+pub const MAX_BARRIER_WIDTH_TO_SCENE: f64 = 100.0;
+
 /// The most solves per step `solver.friction_iterations` may ask for.
 const MAX_FRICTION_ITERATIONS: usize = 100;
 /// The most halvings of a step `solver.max_subdivisions` may ask for
@@ -1079,6 +1084,28 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                          (effects.ground.height); raise {key}[{UP_AXIS}]",
                         num(bottom),
                         num(height)
+                    ),
+                ));
+            }
+            // The barrier acts within `a` of the ground; far beyond the
+            // scene's own lengths it pushes every vertex from the start with
+            // a stiffness scaled to `a` (the default rule floors it by
+            // `M a² / s²`), and the first step is lost to round-off.
+            let scale = bounding_box_diagonal(bodies) + (bottom - height);
+            if a > MAX_BARRIER_WIDTH_TO_SCENE * scale {
+                return Err(self.err(
+                    "effects.ground.a",
+                    format!(
+                        "{} is more than {} times the scene's size {} (the bodies' bounding box \
+                         diagonal plus the gap they start at above the ground): the barrier \
+                         would push every vertex from the start with a force that crushes the \
+                         bodies and loses the first step to round-off; at most {} here (the \
+                         default is {})",
+                        num(a),
+                        num(MAX_BARRIER_WIDTH_TO_SCENE),
+                        approx(scale),
+                        approx(MAX_BARRIER_WIDTH_TO_SCENE * scale),
+                        num(DEFAULT_BARRIER_WIDTH)
                     ),
                 ));
             }
