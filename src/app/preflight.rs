@@ -1,7 +1,8 @@
 //! Checks made after the scene is validated and before any work or file:
 //! what the run will allocate against this machine's memory, the image size
-//! against the graphics adapter, the starting energy, and the barrier
-//! stiffness against the automatic one. Each failure is a scene error at
+//! against the graphics adapter, the masses against `dt²` times the
+//! stiffness, the starting energy, and the barrier stiffness against the
+//! automatic one. Each failure is a scene error at
 //! its key (exit code 2).
 
 use super::AppError;

@@ -74,6 +74,15 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         source: &source,
         overrides: &overrides,
     };
+    // A mesh file changed since the scene recorded it: --strict refuses.
+    if args.strict
+        && let Some((key, change)) = scene.changed_mesh_files().into_iter().next()
+    {
+        let reason = format!("{change} (--strict)");
+        return Err(AppError::Scene(Scene::key_error(
+            &source, &overrides, &key, reason,
+        )));
+    }
     for warning in scene.warnings() {
         eprintln!("elasto: warning: {warning}");
     }

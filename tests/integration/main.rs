@@ -49,6 +49,8 @@ mod readme_manual;
 mod regression_array_items_could_not_be_set;
 mod regression_bad_input_caught_late;
 mod regression_barrier_wider_than_the_gap_was_silent;
+mod regression_changed_mesh_file_went_unnoticed;
+mod regression_compressed_vtu_bomb;
 mod regression_duplicate_elements_doubled_the_mass;
 mod regression_extreme_parameters_failed_at_step_0;
 mod regression_force_removed_frames_it_never_wrote;
