@@ -336,16 +336,17 @@ fn array_without_index(walked: &str, items: &DeArray<'_>, rest: &[KeyPart]) -> S
     let tables = items
         .iter()
         .all(|item| matches!(item.get_ref(), DeValue::Table(_)));
-    let what = if tables { "tables" } else { "values" };
+    if !tables || items.is_empty() {
+        return format!(
+            "`{walked}` is an array of {} values, not a table",
+            items.len()
+        );
+    }
     let example = format!("{walked}[0].{}", dotted(rest));
     match items.len() {
-        0 => format!("`{walked}` is an empty array: it has no item to change"),
-        1 => format!(
-            "`{walked}` is an array of 1 {}: address it by its index, `{example}`",
-            &what[..what.len() - 1]
-        ),
+        1 => format!("`{walked}` is an array of 1 table: address it by its index, `{example}`"),
         n => format!(
-            "`{walked}` is an array of {n} {what}: address one by its index, `{walked}[0]` to \
+            "`{walked}` is an array of {n} tables: address one by its index, `{walked}[0]` to \
              `{walked}[{}]`, e.g. `{example}`",
             n - 1
         ),
