@@ -40,8 +40,9 @@ pub enum InputFileError {
     },
 }
 
-/// The whole of the regular file at `path`, at most `limit` bytes.
-pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, InputFileError> {
+/// The regular file at `path`, opened, when it holds at most `limit`
+/// bytes (a caller reading it must still stop at `limit`: it may grow).
+pub fn open_regular_file(path: &Path, limit: u64) -> Result<std::fs::File, InputFileError> {
     check_kind(&std::fs::metadata(path)?)?;
     let file = std::fs::File::open(path)?;
     let metadata = file.metadata()?;
@@ -52,6 +53,13 @@ pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, InputFileEr
             limit,
         });
     }
+    Ok(file)
+}
+
+/// The whole of the regular file at `path`, at most `limit` bytes.
+pub fn read_regular_file(path: &Path, limit: u64) -> Result<Vec<u8>, InputFileError> {
+    let file = open_regular_file(path, limit)?;
+    let metadata = file.metadata()?;
     let mut bytes = Vec::with_capacity(usize::try_from(metadata.len()).unwrap_or(0));
     file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {

@@ -34,7 +34,8 @@ fn main() {
 
 /// On SIGINT, SIGTERM or SIGHUP (a closed terminal, a dropped ssh session):
 /// stop the encoders, remove the partial frames and videos (frames already
-/// complete stay), say so, and exit with 128 + the signal number (130, 143,
+/// complete stay; a run replacing an earlier one removes all of its
+/// outputs, and the earlier run stays as it was), say so, and exit with 128 + the signal number (130, 143,
 /// 129), the code a shell shows for a process the signal killed.
 #[cfg(unix)]
 fn exit_on_interrupt() {
@@ -47,6 +48,7 @@ fn exit_on_interrupt() {
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
             elasto::render::remove_partial_files();
+            let kept = elasto::output::abandon_staged_runs();
             let name = match signal {
                 SIGINT => "SIGINT",
                 SIGHUP => "SIGHUP",
@@ -60,11 +62,20 @@ fn exit_on_interrupt() {
             };
             // Not eprintln!: after SIGHUP the terminal may be gone, and a
             // panic here would leave the process running.
-            let _ = writeln!(
-                std::io::stderr(),
-                "{newline}error: interrupted by {name}; frames already written are kept, \
-                 partial frames and videos removed"
-            );
+            let _ = match kept.first() {
+                // A --force run over an earlier one: nothing of it was kept.
+                Some(folder) => writeln!(
+                    std::io::stderr(),
+                    "{newline}error: interrupted by {name}; the earlier run in {} is kept as \
+                     it was, this run's outputs removed",
+                    folder.display()
+                ),
+                None => writeln!(
+                    std::io::stderr(),
+                    "{newline}error: interrupted by {name}; frames already written are kept, \
+                     partial frames and videos removed"
+                ),
+            };
             // _exit, not exit: atexit handlers (the graphics driver's) must
             // not run while other threads may still be drawing.
             // SAFETY: _exit has no preconditions; it ends the process at once.

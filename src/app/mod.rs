@@ -96,9 +96,9 @@ fn shortcut_overrides(
 }
 
 /// Builds a scene's mesh and simulation (no steps taken), after checking
-/// that it fits in memory, and checks what only the built simulation knows:
-/// the barrier stiffness against the automatic one and a finite starting
-/// energy. Every problem is a scene error at its key.
+/// that it fits in memory, and checks what only the built meshes and
+/// simulation know: masses not lost beside the stiffness, the barrier
+/// stiffness against the automatic one and a finite starting energy. Every problem is a scene error at its key.
 fn build_simulation<const D: usize>(
     config: &SceneConfig<D>,
     input: SceneInput,
@@ -112,6 +112,7 @@ fn build_simulation<const D: usize>(
                 format!("cannot be meshed: {source}"),
             )
         })?;
+        preflight::check_mass_against_stiffness(config, body, &mesh, input)?;
         bodies.push(Body {
             mesh,
             material: body.material.material,

@@ -74,6 +74,15 @@ pub fn run(args: &RunArgs) -> Result<(), AppError> {
         source: &source,
         overrides: &overrides,
     };
+    // A mesh file changed since the scene recorded it: --strict refuses.
+    if args.strict
+        && let Some((key, change)) = scene.changed_mesh_files().into_iter().next()
+    {
+        let reason = format!("{change} (--strict)");
+        return Err(AppError::Scene(Scene::key_error(
+            &source, &overrides, &key, reason,
+        )));
+    }
     for warning in scene.warnings() {
         eprintln!("elasto: warning: {warning}");
     }
@@ -181,8 +190,10 @@ fn run_scene<const D: usize>(
 
     // 2. The output folder: refused (untouched) when it holds anything, unless
     //    --force; even then links and things in the way of the outputs are.
+    //    An earlier run there stays whole until this one is complete.
     let out = OutputDir::check(&plan.out, plan.force, &plan.writes())?;
-    let _lock = out.prepare()?;
+    let mut out = out.begin_run()?;
+    let mut kept_note = EarlierRunNote(out.replaces_earlier_run().then(|| out.path().to_owned()));
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
     let stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
     let mut log = FrameLog::new(stats, plan.render, plan.profile.is_some());
@@ -205,7 +216,7 @@ fn run_scene<const D: usize>(
         let settings = config.render.clone();
         let outputs = RenderOutputs {
             frames_dir: out.join("frames"),
-            video_dir: out.path().to_owned(),
+            video_dir: out.writing_path().to_owned(),
             videos: plan.videos.clone(),
             fps: config.time.fps,
         };
@@ -366,6 +377,9 @@ fn run_scene<const D: usize>(
         let _ = log.abandon();
         return Err(error);
     }
+    // The run is complete: its outputs replace an earlier run's.
+    kept_note.0 = None;
+    out.complete()?;
     // A table that cannot be written is reported after the run's own lines:
     // its files are complete either way.
     let table_written = match (plan.profile, &log.profile) {
@@ -411,6 +425,23 @@ fn run_scene<const D: usize>(
         eprintln!("warning: {name}: health: {summary}");
     }
     table_written
+}
+
+/// Says, when a run that was to replace an earlier one stops before it is
+/// complete, that the earlier run is kept (its outputs are not this run's).
+struct EarlierRunNote(Option<PathBuf>);
+
+impl Drop for EarlierRunNote {
+    fn drop(&mut self) {
+        if let Some(folder) = &self.0 {
+            use std::io::Write;
+            let _ = writeln!(
+                std::io::stderr(),
+                "elasto: the earlier run in {} is kept as it was; this run's outputs are removed",
+                folder.display()
+            );
+        }
+    }
 }
 
 /// `stats.csv` rows waiting for their frame's rendering times, and the

@@ -419,12 +419,20 @@ impl PlannedRun {
         .join(", ")
     }
 
-    /// The resolved scene's value of a dotted key, as TOML text (`—` when absent).
+    /// The resolved scene's value of a dotted key, as TOML text (`—` when
+    /// absent); a part may index an array (`bodies[1].material.young`).
     fn value_of(&self, key: &str) -> String {
         let mut table = &self.resolved;
         let parts: Vec<&str> = key.split('.').collect();
         for (i, part) in parts.iter().enumerate() {
-            match table.get(*part) {
+            let item = match part.strip_suffix(']').and_then(|p| p.split_once('[')) {
+                Some((name, index)) => match (table.get(name), index.parse::<usize>()) {
+                    (Some(toml::Value::Array(items)), Ok(index)) => items.get(index),
+                    _ => None,
+                },
+                None => table.get(*part),
+            };
+            match item {
                 Some(toml::Value::Table(inner)) if i + 1 < parts.len() => table = inner,
                 Some(toml::Value::String(text)) if i + 1 == parts.len() => return text.clone(),
                 Some(value) if i + 1 == parts.len() => return value.to_string(),

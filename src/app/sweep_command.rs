@@ -303,29 +303,66 @@ impl SweepPlan {
     }
 
     /// For `--collect`: the sweep's folder holds at least one run folder of
-    /// this plan; else nothing is written (a table of runs that never ran
-    /// would replace the real sweep's).
+    /// this plan, and when some of the plan's runs are missing, no run of
+    /// other values (a run folder holding a run record that is not among
+    /// the plan's): missing runs beside another sweep's are the sign of
+    /// other `--vary` values than the sweep's, not of a shard still to run.
+    /// Else nothing is written (a table of runs that never ran would
+    /// replace the real sweep's).
     fn check_collectable(&self) -> Result<(), SweepError> {
-        let nothing = |reason| SweepError::NothingToCollect {
+        let nothing = |reason: String| SweepError::NothingToCollect {
             folder: self.out.clone(),
             reason,
         };
         if !self.out.is_dir() {
-            return Err(nothing("there is no sweep folder here"));
+            return Err(nothing("there is no sweep folder here".into()));
         }
-        if self
-            .runs
+        let planned: BTreeSet<String> = self.runs.iter().map(|run| run.folder_name()).collect();
+        let missing: Vec<&String> = planned
             .iter()
-            .any(|run| self.out.join(run.folder_name()).is_dir())
-        {
+            .filter(|name| !self.out.join(name).is_dir())
+            .collect();
+        if missing.len() == planned.len() {
+            let empty = std::fs::read_dir(&self.out).is_ok_and(|mut e| e.next().is_none());
+            return Err(nothing(if empty {
+                "the folder is empty".into()
+            } else {
+                "it holds none of this sweep's runs".into()
+            }));
+        }
+        if missing.is_empty() {
             return Ok(());
         }
-        let empty = std::fs::read_dir(&self.out).is_ok_and(|mut e| e.next().is_none());
-        Err(nothing(if empty {
-            "the folder is empty"
-        } else {
-            "it holds none of this sweep's runs"
-        }))
+        let mut others: Vec<String> = std::fs::read_dir(&self.out)
+            .map(|entries| {
+                entries
+                    .flatten()
+                    .filter(|entry| entry.path().join(RUN_RECORD_FILE).is_file())
+                    .map(|entry| entry.file_name().to_string_lossy().into_owned())
+                    .filter(|name| !planned.contains(name))
+                    .collect()
+            })
+            .unwrap_or_default();
+        if others.is_empty() {
+            return Ok(());
+        }
+        others.sort();
+        let list = |names: &[&String]| {
+            let shown: Vec<&str> = names.iter().take(3).map(|n| n.as_str()).collect();
+            let more = names.len().saturating_sub(shown.len());
+            if more > 0 {
+                format!("{} and {more} more", shown.join(", "))
+            } else {
+                shown.join(", ")
+            }
+        };
+        Err(nothing(format!(
+            "it holds runs of other values than these arguments describe ({}) while {} of \
+             theirs never ran there ({}): the sweep was run with other --vary or --set values",
+            list(&others.iter().collect::<Vec<_>>()),
+            missing.len(),
+            list(&missing)
+        )))
     }
 
     fn check_folders(&self, force: bool) -> Result<Vec<(usize, Action)>, SweepError> {

@@ -30,6 +30,7 @@ mod mesh_import_error;
 mod msh;
 mod tetgen;
 mod vtu;
+mod vtu_sizes;
 
 pub use clean::{ImportOptions, ImportReport, clean};
 pub use imported_mesh::ImportedMesh;
@@ -65,6 +66,82 @@ pub fn read_mesh(path: &Path, dimension: usize) -> Result<ImportedMesh, MeshImpo
             extension,
         }),
     }
+}
+
+/// What a mesh file was when it was read: its size and checksum, recorded
+/// in a run's `scene.toml` so a later run of it can tell that the file has
+/// changed.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MeshFileFingerprint {
+    /// Bytes in the file (for TetGen, the `.node` and `.ele` together).
+    pub size: u64,
+    /// `xxh3:` and the file's (or the TetGen pair's) 64-bit XXH3 hash in 16
+    /// hexadecimal digits.
+    pub checksum: String,
+}
+
+impl MeshFileFingerprint {
+    /// The prefix of [`MeshFileFingerprint::checksum`].
+    pub const CHECKSUM_PREFIX: &'static str = "xxh3:";
+
+    /// Whether `text` is a checksum as [`MeshFileFingerprint::checksum`]
+    /// writes it.
+    pub fn is_checksum(text: &str) -> bool {
+        text.strip_prefix(Self::CHECKSUM_PREFIX)
+            .is_some_and(|hex| hex.len() == 16 && hex.bytes().all(|b| b.is_ascii_hexdigit()))
+    }
+}
+
+/// The size and checksum of the mesh file at `path` (the `.node` and
+/// `.ele` pair for TetGen, in that order), read in pieces, at most
+/// [`MAX_MESH_FILE_BYTES`] per file. XXH3 (the `twox-hash` crate) hashes
+/// at several GB/s, so a large mesh costs about as much as reading it; it
+/// tells a changed file, it is no defence against a forged one.
+pub fn mesh_file_fingerprint(path: &Path) -> Result<MeshFileFingerprint, MeshImportError> {
+    use std::hash::Hasher;
+    use std::io::Read;
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    let files = match extension.as_str() {
+        "node" | "ele" => vec![path.with_extension("node"), path.with_extension("ele")],
+        _ => vec![path.to_owned()],
+    };
+    let mut hasher = twox_hash::XxHash3_64::default();
+    let mut size = 0u64;
+    let mut buffer = vec![0u8; 1 << 20];
+    for file in &files {
+        let io = |source: std::io::Error| MeshImportError::Io {
+            path: file.clone(),
+            source: source.into(),
+        };
+        let opened =
+            crate::input_file::open_regular_file(file, MAX_MESH_FILE_BYTES).map_err(|source| {
+                MeshImportError::Io {
+                    path: file.clone(),
+                    source,
+                }
+            })?;
+        let mut limited = opened.take(MAX_MESH_FILE_BYTES);
+        loop {
+            let read = limited.read(&mut buffer).map_err(io)?;
+            if read == 0 {
+                break;
+            }
+            hasher.write(&buffer[..read]);
+            size += read as u64;
+        }
+    }
+    Ok(MeshFileFingerprint {
+        size,
+        checksum: format!(
+            "{}{:016x}",
+            MeshFileFingerprint::CHECKSUM_PREFIX,
+            hasher.finish()
+        ),
+    })
 }
 
 /// Reads and cleans the mesh file at `path`: [`read_mesh`] then [`clean`].

@@ -3,7 +3,8 @@
 //! `vtkio` parses the XML and decodes ASCII, base64 binary, appended and
 //! zlib- or LZ4-compressed data arrays; this module only checks the result
 //! (a truncated file, another VTK data set type, cells that point past the
-//! points) and keeps the cells of type 10 (`VTK_TETRA`) in 3D or 5
+//! points; before parsing, the sizes compressed arrays declare, see
+//! `vtu_sizes.rs`) and keeps the cells of type 10 (`VTK_TETRA`) in 3D or 5
 //! (`VTK_TRIANGLE`) in 2D. Points and cells are numbered from 0, as in
 //! ParaView's spreadsheet view; several pieces are joined.
 
@@ -45,6 +46,8 @@ pub(crate) fn read(
             expected: "`</VTKFile>`".to_owned(),
         });
     }
+    // vtkio allocates what the compressed headers declare: checked first.
+    super::vtu_sizes::check_declared_sizes(path, bytes)?;
     // vtkio slices its binary data by the sizes the file states, and panics
     // on some corrupt ones (seen with a damaged compression header), so a
     // panic there is turned into an error naming the file like any other.

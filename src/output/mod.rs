@@ -3,12 +3,14 @@
 //!
 //! Every write that fails names its file. Nothing a user made is lost: an
 //! existing non-empty output folder is refused unless the caller forces it,
-//! and even then only the files elasto writes are replaced.
+//! and even then only the files elasto writes are replaced, and an earlier
+//! run's stay whole until the new run is complete ([`RunFolder`]).
 
 mod mesh_series_writer;
 mod number_text;
 mod output_dir;
 mod output_error;
+mod run_folder;
 mod stats_writer;
 mod surface_writer;
 
@@ -16,6 +18,7 @@ pub use mesh_series_writer::MeshSeriesWriter;
 pub use number_text::format_number;
 pub use output_dir::{FolderLock, OutputDir};
 pub use output_error::OutputError;
+pub use run_folder::{RunFolder, STAGING_FOLDER, abandon_staged_runs};
 pub use stats_writer::{PendingRow, RenderTimes, StatsWriter, stats_columns};
 pub use surface_writer::{
     Surface, SurfaceFormat, SurfaceSeriesWriter, surface_file_name, write_surface,

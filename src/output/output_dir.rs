@@ -1,11 +1,12 @@
 //! The run's output folder: refused when it holds anything unless forced.
 
-use super::OutputError;
+use super::run_folder::STAGING_FOLDER;
+use super::{OutputError, RunFolder};
 use crate::render::write_whole_file;
 use std::path::{Path, PathBuf};
 
 /// Names of the files and folders a run writes at the top of its folder.
-const OWNED_FILES: &[&str] = &[
+pub(super) const OWNED_FILES: &[&str] = &[
     "scene.toml",
     "stats.csv",
     "video.png",
@@ -13,7 +14,7 @@ const OWNED_FILES: &[&str] = &[
     "video.gif",
 ];
 /// Sub-folders whose `frame_*` files and `frames.pvd` a run writes.
-const OWNED_FOLDERS: &[&str] = &["frames", "meshes", "surfaces"];
+pub(super) const OWNED_FOLDERS: &[&str] = &["frames", "meshes", "surfaces"];
 
 /// The exclusive lock on an output folder held while a run writes into it
 /// (released when dropped, or when the process ends however it ends).
@@ -53,9 +54,11 @@ pub struct OutputDir {
 }
 
 /// Whether elasto writes or clears an entry of this name at the top of its folder
-/// (its files, its sub-folders, and the hidden partial videos).
+/// (its files, its sub-folders, the hidden partial videos, and the staging
+/// folder of a run that replaces an earlier one).
 fn ours_at_top(name: &str) -> bool {
     OWNED_FILES.contains(&name)
+        || name == STAGING_FOLDER
         || OWNED_FOLDERS.contains(&name)
         || (name.starts_with(".video.") && name.ends_with(".partial"))
         || partial_of(name).is_some_and(|file| OWNED_FILES.contains(&file))
@@ -70,7 +73,7 @@ fn partial_of(name: &str) -> Option<&str> {
 /// Whether elasto writes or clears an entry of this name inside `frames/`,
 /// `meshes/` or `surfaces/` (frames, surfaces, their hidden partial and
 /// temporary files, the ParaView collection).
-fn ours_inside(name: &str) -> bool {
+pub(super) fn ours_inside(name: &str) -> bool {
     numbered(name, "frame_", &[".png", ".vtu"])
         || name == "frames.pvd"
         || (name.starts_with(".frame_") && name.ends_with(".partial"))
@@ -143,6 +146,9 @@ impl OutputDir {
     /// `surfaces/surface_*.obj|ply`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
     /// [`OutputDir::check`] has made sure that none of these is a link.
+    /// For outputs written whole at the end (a study's); a run that writes
+    /// as it goes uses [`OutputDir::begin_run`], which keeps the earlier
+    /// run until the new one is complete.
     ///
     /// The folder is locked first (an exclusive advisory lock on the folder
     /// itself, so no file is left behind): a second elasto preparing the
@@ -150,9 +156,60 @@ impl OutputDir {
     /// [`OutputError::InUse`] before it removes anything. Keep the lock for
     /// as long as the run writes.
     pub fn prepare(&self) -> Result<FolderLock, OutputError> {
+        let lock = self.create_and_lock()?;
+        self.remove_outputs()?;
+        Ok(lock)
+    }
+
+    /// Creates and locks the folder for a run (see [`OutputDir::prepare`]
+    /// for the lock) and says where the run writes: when the folder holds an
+    /// earlier run's outputs, into a staging folder whose files replace
+    /// them once the run is complete ([`RunFolder::complete`]); otherwise in
+    /// place. Either way a completed run leaves exactly its own outputs.
+    pub fn begin_run(&self) -> Result<RunFolder, OutputError> {
+        let lock = self.create_and_lock()?;
+        let replaces = self.holds_a_run()?;
+        if !replaces {
+            self.remove_outputs()?;
+        }
+        RunFolder::new(&self.path, lock, replaces)
+    }
+
+    fn create_and_lock(&self) -> Result<FolderLock, OutputError> {
         std::fs::create_dir_all(&self.path)
             .map_err(OutputError::io("create folder", &self.path))?;
-        let lock = FolderLock::take(&self.path)?;
+        FolderLock::take(&self.path)
+    }
+
+    /// Whether the folder holds a complete output of an earlier run: one of
+    /// the top-level files, or a frame, mesh or surface.
+    fn holds_a_run(&self) -> Result<bool, OutputError> {
+        if OWNED_FILES
+            .iter()
+            .any(|name| self.path.join(name).is_file())
+        {
+            return Ok(true);
+        }
+        for folder in OWNED_FOLDERS {
+            let folder = self.path.join(folder);
+            if !folder.is_dir() {
+                continue;
+            }
+            let entries =
+                std::fs::read_dir(&folder).map_err(OutputError::io("read folder", &folder))?;
+            for entry in entries {
+                let entry = entry.map_err(OutputError::io("read folder", &folder))?;
+                let name = entry.file_name().to_string_lossy().into_owned();
+                if ours_inside(&name) && !name.starts_with('.') {
+                    return Ok(true);
+                }
+            }
+        }
+        Ok(false)
+    }
+
+    /// Removes the outputs of an earlier run (see [`OutputDir::prepare`]).
+    fn remove_outputs(&self) -> Result<(), OutputError> {
         for name in OWNED_FILES {
             remove_if_file(&self.path.join(name))?;
         }
@@ -172,7 +229,7 @@ impl OutputDir {
                 remove_if_file(&entry.path())?;
             }
         }
-        Ok(lock)
+        Ok(())
     }
 
     /// The folder.

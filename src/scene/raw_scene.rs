@@ -104,6 +104,10 @@ pub(crate) struct RawMesh {
     pub orient: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub merge_tolerance: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file_size: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file_checksum: Option<String>,
 }
 
 /// `mesh.rotate`: one angle in 2D (about the axis out of the plane), three in

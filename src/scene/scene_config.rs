@@ -15,7 +15,7 @@ use crate::material::Material;
 use crate::material::{MaterialModel, YoungPoisson};
 use crate::math::{UP_AXIS, Vector};
 use crate::mesh::{Mesh, MeshError};
-use crate::mesh_io::{ImportOptions, ImportReport};
+use crate::mesh_io::{ImportOptions, ImportReport, MeshFileFingerprint};
 use crate::render::RenderSettings;
 use crate::sim::{Effects, Ground, PinRegion, SimulationSettings};
 use crate::solver::SolverSettings;
@@ -133,6 +133,53 @@ pub struct FileMesh<const D: usize> {
     pub mesh: Arc<Mesh<D>>,
     /// What the import ignored, re-oriented, dropped and merged.
     pub report: ImportReport,
+    /// The file's size and checksum as it was read.
+    pub fingerprint: MeshFileFingerprint,
+    /// The size and checksum the scene recorded (`mesh.file_size`,
+    /// `mesh.file_checksum`, as a run's `scene.toml` holds them), if any.
+    pub recorded: RecordedFile,
+}
+
+/// A mesh file's size and checksum as a scene recorded them.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct RecordedFile {
+    /// `mesh.file_size`.
+    pub size: Option<u64>,
+    /// `mesh.file_checksum`.
+    pub checksum: Option<String>,
+}
+
+impl<const D: usize> FileMesh<D> {
+    /// Why the file differs from what the scene recorded, if it does.
+    pub fn change(&self) -> Option<String> {
+        let size_changed = self
+            .recorded
+            .size
+            .is_some_and(|s| s != self.fingerprint.size);
+        let sum_changed = self
+            .recorded
+            .checksum
+            .as_ref()
+            .is_some_and(|c| !c.eq_ignore_ascii_case(&self.fingerprint.checksum));
+        if !size_changed && !sum_changed {
+            return None;
+        }
+        let then = [
+            self.recorded.size.map(|s| format!("{s} bytes")),
+            self.recorded.checksum.clone(),
+        ]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join(", ");
+        Some(format!(
+            "{} has changed since this scene was written ({then} then, {} bytes, {} now): the run \
+             will not reproduce the one that recorded it",
+            self.path.display(),
+            self.fingerprint.size,
+            self.fingerprint.checksum
+        ))
+    }
 }
 
 impl<const D: usize> PartialEq for FileMesh<D> {
@@ -409,9 +456,26 @@ impl<const D: usize> Default for SceneConfig<D> {
 }
 
 impl<const D: usize> SceneConfig<D> {
+    /// See [`Scene::changed_mesh_files`].
+    pub fn changed_mesh_files(&self) -> Vec<(String, String)> {
+        self.bodies
+            .iter()
+            .filter_map(|body| match &body.mesh {
+                MeshConfig::File(f) => f
+                    .change()
+                    .map(|change| (format!("{}mesh.path", body.key_prefix), change)),
+                MeshConfig::Box(_) => None,
+            })
+            .collect()
+    }
+
     /// See [`Scene::warnings`].
     pub fn warnings(&self) -> Vec<String> {
-        let mut warnings = Vec::new();
+        let mut warnings: Vec<String> = self
+            .changed_mesh_files()
+            .into_iter()
+            .map(|(key, change)| format!("{key}: {change}"))
+            .collect();
         if let Some(ground) = self.effects.ground {
             let lowest = self
                 .bodies
@@ -570,10 +634,18 @@ impl Scene {
     }
 
     /// What a valid scene may still do that its author did not mean, said
-    /// before a run: a ground barrier wider than the gap the bodies start
-    /// at pushes them up from the first step.
+    /// before a run: a mesh file that differs from the size and checksum
+    /// the scene recorded; a ground barrier wider than the gap the bodies
+    /// start at pushes them up from the first step.
     pub fn warnings(&self) -> Vec<String> {
         common!(self, c => c.warnings())
+    }
+
+    /// The mesh files that differ from the size and checksum the scene
+    /// recorded (`mesh.file_size`, `mesh.file_checksum`): each as its key
+    /// (`mesh.path`, `bodies[1].mesh.path`) and what changed.
+    pub fn changed_mesh_files(&self) -> Vec<(String, String)> {
+        common!(self, c => c.changed_mesh_files())
     }
 
     /// Ground height, when there is a ground.

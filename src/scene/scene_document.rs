@@ -10,6 +10,7 @@
 
 use super::raw_scene::{RawScene, choices};
 use super::scene_error::{Diagnostic, Origin, SceneError, num};
+use super::scene_override::{KeyPart, dotted};
 use super::{SceneOverride, SceneSource};
 use serde::Deserialize;
 use std::borrow::Cow;
@@ -232,6 +233,9 @@ fn file_position(text: &str, offset: usize) -> Origin {
 }
 
 /// Grafts one override into the tree; its virtual spans start at `start`.
+/// A key part with an index (`bodies[1]`) steps into that item of an
+/// existing array; a key part without one must not name an array of tables
+/// (the message says how to index it).
 fn apply<'a>(root: &mut DeTable<'a>, o: &'a SceneOverride, start: usize) -> Result<(), String> {
     let (last, parents) = o
         .path
@@ -239,38 +243,114 @@ fn apply<'a>(root: &mut DeTable<'a>, o: &'a SceneOverride, start: usize) -> Resu
         .expect("an override key has at least one part");
     let at = |depth: usize| start + depth..start + depth + 1;
     let mut table = root;
-    let mut walked = Vec::new();
     for (depth, part) in parents.iter().enumerate() {
-        walked.push(part.as_str());
-        let entry = table
-            .entry(Spanned::new(at(depth), Cow::Borrowed(part.as_str())))
-            .or_insert_with(|| Spanned::new(at(depth), DeValue::Table(DeTable::new())));
+        let walked = dotted(&o.path[..=depth]);
+        let entry = match part.index {
+            Some(index) => item_mut(table, part, index, &walked)?,
+            None => {
+                let entry = table
+                    .entry(Spanned::new(at(depth), Cow::Borrowed(part.name.as_str())))
+                    .or_insert_with(|| Spanned::new(at(depth), DeValue::Table(DeTable::new())));
+                if let DeValue::Array(items) = entry.get_ref() {
+                    return Err(array_without_index(&walked, items, &o.path[depth + 1..]));
+                }
+                entry
+            }
+        };
         match entry.get_mut() {
             DeValue::Table(t) => table = t,
             other => {
-                return Err(format!(
-                    "`{}` is a {}, not a table",
-                    walked.join("."),
-                    other.type_str()
-                ));
+                return Err(format!("`{walked}` is a {}, not a table", other.type_str()));
             }
         }
     }
-    table.remove(last.as_str());
-    if let Some(text) = &o.value {
-        let span = at(o.path.len());
-        let value = match DeValue::parse(text) {
-            Ok(v) => respan(v.into_inner(), &span),
-            // Not a TOML value: take the text as a string, so that
-            // `--set material.model=neo-hookean` needs no quotes.
-            Err(_) => Spanned::new(span, DeValue::String(Cow::Borrowed(text.as_str()))),
-        };
-        table.insert(
-            Spanned::new(at(parents.len()), Cow::Borrowed(last.as_str())),
-            value,
-        );
+    let span = at(o.path.len());
+    let value = o.value.as_ref().map(|text| match DeValue::parse(text) {
+        Ok(v) => respan(v.into_inner(), &span),
+        // Not a TOML value: take the text as a string, so that
+        // `--set material.model=neo-hookean` needs no quotes.
+        Err(_) => Spanned::new(span, DeValue::String(Cow::Borrowed(text.as_str()))),
+    });
+    match (last.index, value) {
+        (Some(index), Some(value)) => {
+            *item_mut(table, last, index, &o.key())? = value;
+        }
+        (Some(_), None) => {
+            return Err(format!(
+                "`{}`: one item of an array cannot be removed",
+                o.key()
+            ));
+        }
+        (None, value) => {
+            table.remove(last.name.as_str());
+            if let Some(value) = value {
+                table.insert(
+                    Spanned::new(at(parents.len()), Cow::Borrowed(last.name.as_str())),
+                    value,
+                );
+            }
+        }
     }
     Ok(())
+}
+
+/// Item `index` of the array `part.name` of `table` (`walked`: the key up to
+/// and with it, for messages).
+fn item_mut<'t, 'a>(
+    table: &'t mut DeTable<'a>,
+    part: &KeyPart,
+    index: usize,
+    walked: &str,
+) -> Result<&'t mut Spanned<DeValue<'a>>, String> {
+    let name = &part.name;
+    let Some(value) = table.get_mut(name.as_str()) else {
+        return Err(format!(
+            "the scene has no `{name}`, so `{walked}` names no item (an index addresses one \
+             item of an array that is there)"
+        ));
+    };
+    let items = match value.get_mut() {
+        DeValue::Array(items) => items,
+        other => {
+            let whole = walked.strip_suffix(&format!("[{index}]")).unwrap_or(walked);
+            return Err(format!(
+                "`{whole}` is a {}, not an array: drop the index `[{index}]`",
+                other.type_str()
+            ));
+        }
+    };
+    let count = items.len();
+    items.get_mut(index).ok_or_else(|| match count {
+        0 => format!("index {index} of `{walked}` is out of range: `{name}` is empty"),
+        1 => format!("index {index} of `{walked}` is out of range: `{name}` has 1 item, `[0]`"),
+        n => format!(
+            "index {index} of `{walked}` is out of range: `{name}` has {n} items, `[0]` to \
+             `[{}]`",
+            n - 1
+        ),
+    })
+}
+
+/// The message for a key that steps through an array without an index.
+fn array_without_index(walked: &str, items: &DeArray<'_>, rest: &[KeyPart]) -> String {
+    let tables = items
+        .iter()
+        .all(|item| matches!(item.get_ref(), DeValue::Table(_)));
+    if !tables || items.is_empty() {
+        return format!(
+            "`{walked}` is an array of {} values, not a table",
+            items.len()
+        );
+    }
+    let example = format!("{walked}[0].{}", dotted(rest));
+    match items.len() {
+        1 => format!("`{walked}` is an array of 1 table: address it by its index, `{example}`"),
+        n => format!(
+            "`{walked}` is an array of {n} tables: address one by its index, `{walked}[0]` to \
+             `{walked}[{}]`, e.g. `{example}`",
+            n - 1
+        ),
+    }
 }
 
 /// Gives a value and everything inside it the override's virtual span.

@@ -18,15 +18,15 @@ use super::scene_config::{
     DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
     DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
     DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
-    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene, SceneConfig,
-    TimeConfig, image_bytes,
+    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, RecordedFile, Scene,
+    SceneConfig, TimeConfig, image_bytes,
 };
 use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
 use crate::energy::ElementField;
 use crate::material::{LameParameters, YoungPoisson};
 use crate::math::{UP_AXIS, Vector, Vector3};
-use crate::mesh_io::{ImportOptions, load_mesh};
+use crate::mesh_io::{ImportOptions, MeshFileFingerprint, load_mesh, mesh_file_fingerprint};
 use crate::render::{Camera, Colouring, RenderSettings};
 use crate::sim::{Contact, DEFAULT_FRICTION_VELOCITY, Effects, Ground, PinMotion, PinRegion};
 use crate::solver::{SolverMethod, SolverSettings};
@@ -41,6 +41,11 @@ pub(crate) struct SceneValidator<'d, 'a> {
 }
 
 type VResult<T> = std::result::Result<T, SceneError>;
+
+/// The widest ground barrier `effects.ground.a`, in multiples of the
+/// scene's size (the bodies' bounding box diagonal plus the gap they start
+/// at above the ground).
+pub const MAX_BARRIER_WIDTH_TO_SCENE: f64 = 100.0;
 
 /// The most solves per step `solver.friction_iterations` may ask for.
 const MAX_FRICTION_ITERATIONS: usize = 100;
@@ -388,6 +393,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                     ("translate", raw.translate.is_some()),
                     ("orient", raw.orient.is_some()),
                     ("merge_tolerance", raw.merge_tolerance.is_some()),
+                    ("file_size", raw.file_size.is_some()),
+                    ("file_checksum", raw.file_checksum.is_some()),
                 ]
                 .to_vec(),
                 "file",
@@ -486,8 +493,34 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             rotate,
             translate,
         };
+        let recorded = RecordedFile {
+            size: match raw.file_size {
+                Some(size) => Some(u64::try_from(size).map_err(|_| {
+                    self.err(
+                        "mesh.file_size",
+                        format!("must be a whole number of bytes >= 0, got {size}"),
+                    )
+                })?),
+                None => None,
+            },
+            checksum: match &raw.file_checksum {
+                Some(sum) if MeshFileFingerprint::is_checksum(sum) => Some(sum.clone()),
+                Some(sum) => {
+                    return Err(self.err(
+                        "mesh.file_checksum",
+                        format!(
+                            "must be `xxh3:` and 16 hexadecimal digits, as a run's scene.toml \
+                             records it, got {sum:?}"
+                        ),
+                    ));
+                }
+                None => None,
+            },
+        };
         let (mesh, report) = load_mesh::<D>(&path, &options)
             .map_err(|e| self.err("mesh.path", format!("cannot be imported: {e}")))?;
+        let fingerprint = mesh_file_fingerprint(&path)
+            .map_err(|e| self.err("mesh.path", format!("cannot be read: {e}")))?;
         let coordinates: Vec<f64> = mesh
             .rest_positions()
             .iter()
@@ -510,6 +543,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             translate: Some(translate.iter().copied().collect()),
             orient: Some(orient),
             merge_tolerance: Some(merge_tolerance),
+            file_size: i64::try_from(fingerprint.size).ok(),
+            file_checksum: Some(fingerprint.checksum.clone()),
         };
         Ok((
             FileMesh {
@@ -517,6 +552,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 options,
                 mesh: std::sync::Arc::new(mesh),
                 report,
+                fingerprint,
+                recorded,
             },
             velocity,
             resolved,
@@ -1079,6 +1116,28 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                          (effects.ground.height); raise {key}[{UP_AXIS}]",
                         num(bottom),
                         num(height)
+                    ),
+                ));
+            }
+            // The barrier acts within `a` of the ground; far beyond the
+            // scene's own lengths it pushes every vertex from the start with
+            // a stiffness scaled to `a` (the default rule floors it by
+            // `M a² / s²`), and the first step is lost to round-off.
+            let scale = bounding_box_diagonal(bodies) + (bottom - height);
+            if a > MAX_BARRIER_WIDTH_TO_SCENE * scale {
+                return Err(self.err(
+                    "effects.ground.a",
+                    format!(
+                        "{} is more than {} times the scene's size {} (the bodies' bounding box \
+                         diagonal plus the gap they start at above the ground): the barrier \
+                         would push every vertex from the start with a force that crushes the \
+                         bodies and loses the first step to round-off; at most {} here (the \
+                         default is {})",
+                        num(a),
+                        num(MAX_BARRIER_WIDTH_TO_SCENE),
+                        approx(scale),
+                        approx(MAX_BARRIER_WIDTH_TO_SCENE * scale),
+                        num(DEFAULT_BARRIER_WIDTH)
                     ),
                 ));
             }

@@ -114,8 +114,9 @@ pub enum SweepError {
         /// The I/O error.
         source: std::io::Error,
     },
-    /// `--collect` on a folder with no run of this sweep: missing, empty, or
-    /// holding the runs of other `--vary` values.
+    /// `--collect` on a folder with no run of this sweep (missing, empty, or
+    /// holding the runs of other `--vary` values), or with runs of other
+    /// values while some of this sweep's are missing.
     #[error(
         "{}: {reason}; nothing was written (run the sweep, or its shards, first, with the same \
          scene, --vary and --set)",
@@ -125,7 +126,7 @@ pub enum SweepError {
         /// The sweep's folder.
         folder: PathBuf,
         /// What is there instead.
-        reason: &'static str,
+        reason: String,
     },
     /// Some runs failed (the others completed; see `sweep.csv`).
     #[error("{failed} of {total} runs failed (see {})", table.display())]

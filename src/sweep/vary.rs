@@ -689,7 +689,7 @@ mod tests {
         let runs = expand(&[axis("mesh.velocity=[0,-1],[0,-5]")], false).unwrap();
         let overrides = runs[1].overrides().unwrap();
         assert_eq!(overrides.len(), 1);
-        assert_eq!(overrides[0].path, ["mesh", "velocity"]);
+        assert_eq!(overrides[0].key(), "mesh.velocity");
         assert_eq!(overrides[0].value.as_deref(), Some("[0,-5]"));
         assert_eq!(overrides[0].flag, "--vary mesh.velocity=[0,-5]");
     }
