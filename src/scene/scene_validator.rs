@@ -9,9 +9,9 @@
 use super::SceneError;
 use super::folder_name::folder_name_problem;
 use super::raw_scene::{
-    FieldName, Generator, Method, RawBody, RawCamera, RawContact, RawEffects, RawGround,
-    RawMaterial, RawMesh, RawPinned, RawPinnedList, RawRender, RawRotate, RawScene, RawSolver,
-    RawTime,
+    FieldName, Generator, Method, ProjectionName, RawBody, RawCamera, RawContact, RawEffects,
+    RawGround, RawMaterial, RawMesh, RawPinned, RawPinnedList, RawRender, RawRotate, RawScene,
+    RawSolver, RawTime,
 };
 use super::scene_config::{
     BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
@@ -29,7 +29,7 @@ use crate::math::{UP_AXIS, Vector, Vector3};
 use crate::mesh_io::{ImportOptions, load_mesh};
 use crate::render::{Camera, Colouring, RenderSettings};
 use crate::sim::{Contact, DEFAULT_FRICTION_VELOCITY, Effects, Ground, PinMotion, PinRegion};
-use crate::solver::{SolverMethod, SolverSettings};
+use crate::solver::{Projection, SolverMethod, SolverSettings};
 use std::path::{Path, PathBuf};
 
 /// Turns a [`RawScene`] into a [`Scene`] plus the resolved raw form,
@@ -924,6 +924,15 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 )
             }
         };
+        let projection = match (method, raw.projection) {
+            (Method::GradientDescent, Some(_)) => {
+                return Err(self.err("solver.projection", "is only used with method = \"newton\""));
+            }
+            (Method::GradientDescent, None) => None,
+            (Method::Newton, given) => {
+                Some(given.map_or(SolverSettings::default().projection, Projection::from))
+            }
+        };
         let max_iterations = match raw.max_iterations {
             Some(n) => self.count("solver.max_iterations", n, usize::MAX)?,
             None => default_iterations,
@@ -942,6 +951,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             method: Some(method),
             tolerance: Some(tolerance),
             max_iterations: Some(max_iterations as i64),
+            projection: projection.map(ProjectionName::from),
             max_subdivisions: Some(max_subdivisions as i64),
             step,
             friction_velocity: None,
@@ -952,6 +962,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 method: method_settings,
                 tolerance,
                 max_iterations,
+                projection: projection.unwrap_or_default(),
                 max_subdivisions,
                 ..SolverSettings::default()
             },

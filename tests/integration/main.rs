@@ -57,6 +57,7 @@ mod regression_interrupt_left_partial_video;
 mod regression_loose_tolerance_froze_the_body;
 mod regression_mesh_header_counts_trusted;
 mod regression_overflowing_coordinates_called_degenerate;
+mod regression_projection_kept_newton_linear;
 mod regression_rayon_threads_unchecked;
 mod regression_silent_bad_results;
 mod regression_solver_failure_spoke_debug;

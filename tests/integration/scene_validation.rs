@@ -313,6 +313,16 @@ fn errors_in_optional_tables() {
         ("[solver]\ntolerance = 0.0\n", "solver.tolerance", "> 0"),
         ("[solver]\nstep = 1e-6\n", "solver.step", "gradient-descent"),
         (
+            "[solver]\nmethod = \"gradient-descent\"\nprojection = \"on-demand\"\n",
+            "solver.projection",
+            "only used with method = \"newton\"",
+        ),
+        (
+            "[solver]\nprojection = \"sometimes\"\n",
+            "solver.projection",
+            "`always` or `on-demand`",
+        ),
+        (
             "[solver]\nmethod = \"gradient-descent\"\nstep = -1.0\n",
             "solver.step",
             "> 0",
