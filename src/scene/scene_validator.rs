@@ -16,10 +16,10 @@ use super::raw_scene::{
 use super::scene_config::{
     BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
     DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
-    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
-    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene, SceneConfig,
-    TimeConfig, image_bytes,
+    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RELATIVE_TOLERANCE,
+    DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES,
+    MAX_IMAGE_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, Scene,
+    SceneConfig, TimeConfig, image_bytes,
 };
 use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
@@ -82,7 +82,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         let name = self.name(raw.name.as_deref())?;
         let (bodies, raw_mesh, raw_material, raw_bodies) = self.bodies::<D>(raw)?;
         let (time, raw_time) = self.time(&raw.time)?;
-        let (solver, raw_solver) = self.solver(&raw.solver)?;
+        let (solver, raw_solver) = self.solver(&raw.solver, bounding_box_diagonal(&bodies))?;
         let (effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
         let (solver, raw_solver) =
             self.friction_solver(solver, raw_solver, &raw.solver, &effects, &bodies)?;
@@ -896,11 +896,14 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         ))
     }
 
-    fn solver(&self, raw: &RawSolver) -> VResult<(SolverSettings, RawSolver)> {
+    /// `[solver]`, for bodies whose bounding box at rest has the diagonal
+    /// `scene_size` (the default tolerance scales with it).
+    fn solver(&self, raw: &RawSolver, scene_size: f64) -> VResult<(SolverSettings, RawSolver)> {
         let method = raw.method.unwrap_or_default();
         let tolerance = self.positive(
             "solver.tolerance",
-            raw.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+            raw.tolerance
+                .unwrap_or(DEFAULT_RELATIVE_TOLERANCE * scene_size),
         )?;
         let (method_settings, default_iterations, step) = match method {
             Method::Newton => {

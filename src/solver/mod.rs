@@ -42,7 +42,9 @@ pub enum Projection {
 pub struct SolverSettings {
     /// The minimiser (default: Newton).
     pub method: SolverMethod,
-    /// Convergence tolerance, in length/s (default: 1e-4): Newton stops when
+    /// Convergence tolerance, in length/s (default: 1e-4; a scene without
+    /// `solver.tolerance` gets `1e-3` times its bodies' bounding-box
+    /// diagonal, `scene::DEFAULT_RELATIVE_TOLERANCE`): Newton stops when
     /// `|dx|_inf / dt` falls below it, gradient descent when
     /// `|M^-1 grad E|_inf / dt` does (see `gradient_descent.rs`).
     pub tolerance: f64,

@@ -66,6 +66,7 @@ mod regression_stvk_folded_inside_out;
 mod regression_sweep_collect_wrote_runs_that_never_ran;
 mod regression_sweep_flag_replaced_a_varied_key;
 mod regression_sweep_overwrote_a_foreign_folder;
+mod regression_tolerance_ignored_the_scene_size;
 mod regression_two_writers_mixed_one_folder;
 mod regression_unknown_graphics_backend_found_late;
 mod regression_writes_outside_output_folder;
