@@ -66,6 +66,7 @@ pub fn newton<const D: usize>(
         max_iterations,
         projection,
     } = settings;
+    let on_demand = projection == Projection::OnDemand;
     let n = x.len();
     let mut stats = SolverStats::default();
     let mut gradient = vec![Vector::<D>::zeros(); n];
@@ -93,7 +94,6 @@ pub fn newton<const D: usize>(
         if iteration.energy_changed {
             energy = objective.value(x);
         }
-        let on_demand = projection == Projection::OnDemand;
         if on_demand {
             objective.gradient_and_unprojected_hessian(x, &mut gradient, hessian);
         } else {
