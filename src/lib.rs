@@ -1,6 +1,7 @@
 //! elasto: elastic solids with linear finite elements in 2D and 3D, stepped by
 //! an implicit integrator (backward Euler, BDF2 or Newmark) posed as an
-//! incremental-potential minimisation and solved with projected Newton, and
+//! incremental-potential minimisation and solved with Newton's method (the
+//! Hessian projected to PSD on demand), and
 //! rendered headless with wgpu to PNG frames and video.
 //!
 //! Data flows one way: scene → mesh + effects → time stepper → positions →

@@ -16,9 +16,10 @@ use elasto::assembly::SparseHessian;
 use elasto::contact::CollisionMesh;
 use elasto::energy::{BodyElasticity, ContactBarrier, ContactSettings, Elasticity, EnergyTerm};
 use elasto::material::Material;
-use elasto::math::Vector;
+use elasto::math::{Matrix, Vector};
 use elasto::mesh::Mesh;
 use elasto::sim::{Effects, Ground, Simulation, SimulationSettings};
+use elasto::solver::{Projection, SolverSettings};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -119,8 +120,11 @@ fn assembly_allocations(cells: usize) -> (usize, usize) {
 /// Allocations of one sequential gradient-and-Hessian pass (after a warm-up
 /// pass) of a small `D`-dimensional box of `material`, some elements
 /// stretched and some compressed (so both the positive definite path and the
-/// projection in the SVD frame run).
-fn material_pass_allocations<const D: usize>(material: Material) -> usize {
+/// projection in the SVD frame run): projected, unprojected (Newton with
+/// projection on demand), and the answer of a Cholesky factorisation to an
+/// indefinite matrix (the unprojected Hessian's usual failure, met each time
+/// projection on demand falls back).
+fn material_pass_allocations<const D: usize>(material: Material) -> [usize; 3] {
     let mesh = Arc::new(
         Mesh::axis_aligned_box(Vector::<D>::zeros(), Vector::<D>::from_element(1.0), [3; D])
             .unwrap(),
@@ -134,16 +138,32 @@ fn material_pass_allocations<const D: usize>(material: Material) -> usize {
     let mut hessian = SparseHessian::new(&mesh, free).unwrap();
     let mut gradient = vec![Vector::<D>::zeros(); mesh.vertex_count()];
     let elasticity = Elasticity::new(mesh.clone(), material);
-    let mut pass = || {
+    let mut pass = |project: bool| {
         hessian.clear();
-        elasticity.add_gradient_and_hessian(&x, 1e-4, &mut gradient, &mut hessian);
+        if project {
+            elasticity.add_gradient_and_hessian(&x, 1e-4, &mut gradient, &mut hessian);
+        } else {
+            elasticity.add_gradient_and_unprojected_hessian(&x, 1e-4, &mut gradient, &mut hessian);
+        }
     };
-    pass();
-    allocations_of(pass)
+    pass(true);
+    pass(false);
+    let projected = allocations_of(|| pass(true));
+    let unprojected = allocations_of(|| pass(false));
+    // Minus the identity on every diagonal block: not positive definite.
+    let minus_identity = -Matrix::<D>::identity();
+    for v in 0..mesh.vertex_count() {
+        hessian.add_vertex_block(v, &(minus_identity * 1e3));
+    }
+    let mut definite = true;
+    let refused = allocations_of(|| definite = hessian.factorise_if_positive_definite());
+    assert!(!definite, "the matrix is indefinite");
+    [projected, unprojected, refused]
 }
 
-/// Allocations of the 4th time step of the square dropping on the ground.
-fn step_allocations(cells: usize) -> (usize, usize) {
+/// Allocations of the 4th time step of the square dropping on the ground,
+/// with the Hessian projected as `projection` says.
+fn step_allocations(cells: usize, projection: Projection) -> (usize, usize) {
     let mesh = square(cells);
     let effects = Effects {
         gravity: Some(Vector::<2>::new(0.0, -9.81)),
@@ -158,6 +178,10 @@ fn step_allocations(cells: usize) -> (usize, usize) {
     };
     let settings = SimulationSettings {
         dt: 0.01,
+        solver: SolverSettings {
+            projection,
+            ..Default::default()
+        },
         ..Default::default()
     };
     let velocity = Vector::<2>::new(0.0, -1.0);
@@ -258,9 +282,19 @@ fn assembly_and_steps_allocate_independently_of_the_mesh_size() {
     );
     // Every material, in 2D and 3D: no heap in the element kernel (the SVD
     // and the projection are fixed-size).
+    // The same for the unprojected pass and the refused factorisation of
+    // projection on demand.
     for (name, material) in materials() {
-        assert_eq!(material_pass_allocations::<2>(material), 0, "{name} 2D");
-        assert_eq!(material_pass_allocations::<3>(material), 0, "{name} 3D");
+        assert_eq!(
+            material_pass_allocations::<2>(material),
+            [0; 3],
+            "{name} 2D"
+        );
+        assert_eq!(
+            material_pass_allocations::<3>(material),
+            [0; 3],
+            "{name} 3D"
+        );
     }
     // A parallel pass may let rayon allocate a few job records, never per element.
     assert!(
@@ -272,21 +306,25 @@ fn assembly_and_steps_allocate_independently_of_the_mesh_size() {
     // A whole step: solver vectors, statistics, the per-step copies. The
     // count grows with the Newton iterations (a few per iteration), not
     // with the elements.
-    let (small_step, small_iterations) = step_allocations(10);
-    let (large_step, large_iterations) = step_allocations(40);
-    let per_iteration = |count: usize, iterations: usize| count as f64 / iterations.max(1) as f64;
-    println!(
-        "step allocations: 10x10 {small_step} ({small_iterations} iterations), \
-         40x40 {large_step} ({large_iterations} iterations)"
-    );
-    assert!(
-        small_step < 100 && large_step < 100 + 16 * large_iterations,
-        "a step allocated {small_step} (10 x 10) and {large_step} (40 x 40) times"
-    );
-    assert!(
-        per_iteration(large_step, large_iterations)
-            <= per_iteration(small_step, small_iterations) + 16.0,
-        "allocations per iteration grow with the mesh: {small_step}/{small_iterations} \
-         against {large_step}/{large_iterations}"
-    );
+    for projection in [Projection::Always, Projection::OnDemand] {
+        let (small_step, small_iterations) = step_allocations(10, projection);
+        let (large_step, large_iterations) = step_allocations(40, projection);
+        let per_iteration =
+            |count: usize, iterations: usize| count as f64 / iterations.max(1) as f64;
+        println!(
+            "step allocations ({projection:?}): 10x10 {small_step} ({small_iterations} \
+             iterations), 40x40 {large_step} ({large_iterations} iterations)"
+        );
+        assert!(
+            small_step < 100 && large_step < 100 + 16 * large_iterations,
+            "a step allocated {small_step} (10 x 10) and {large_step} (40 x 40) times \
+             ({projection:?})"
+        );
+        assert!(
+            per_iteration(large_step, large_iterations)
+                <= per_iteration(small_step, small_iterations) + 16.0,
+            "allocations per iteration grow with the mesh: {small_step}/{small_iterations} \
+             against {large_step}/{large_iterations} ({projection:?})"
+        );
+    }
 }

@@ -4,7 +4,7 @@ use super::cli::CheckArgs;
 use super::{AppError, SceneInput, build_simulation, scene_overrides};
 use crate::energy::FrictionSettings;
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
-use crate::solver::SolverMethod;
+use crate::solver::{Projection, SolverMethod};
 use std::fmt::Write as _;
 
 /// Runs `elasto check`, returning the summary it prints.
@@ -160,9 +160,10 @@ fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
         time.fps,
         time.frames as f64 / time.fps
     );
-    let method = match solver.method {
-        SolverMethod::Newton => "newton".to_owned(),
-        SolverMethod::GradientDescent { step } => format!("gradient-descent (step {step})"),
+    let method = match (solver.method, solver.projection) {
+        (SolverMethod::Newton, Projection::OnDemand) => "newton (projection on demand)".to_owned(),
+        (SolverMethod::Newton, Projection::Always) => "newton (projection always)".to_owned(),
+        (SolverMethod::GradientDescent { step }, _) => format!("gradient-descent (step {step})"),
     };
     let _ = writeln!(
         s,

@@ -245,6 +245,7 @@ mod tests {
             iterations: 0,
             linear_solves: 0,
             backtracks: 0,
+            projected_iterations: 0,
             unconverged_steps: unconverged,
             stalled_steps: 0,
             reanalyses: 0,

@@ -172,6 +172,29 @@ impl SparseCholesky {
         &mut self,
         matrix: SparseColMatRef<'_, usize, f64>,
     ) -> Result<(), FactorisationError> {
+        self.factorise_if_positive_definite(matrix)
+            .map_err(|pivot| {
+                FactorisationError(format!(
+                    "the system matrix is not positive definite in floating point (pivot {} of \
+                     {} is not positive): the masses are lost to round-off beside dt² times the \
+                     stiffness, or a barrier's curvature swamps the rest; a larger \
+                     material.density, a smaller time step or a barrier closer to its default \
+                     may help",
+                    pivot + 1,
+                    matrix.nrows()
+                ))
+            })
+    }
+
+    /// [`Self::factorise`], answering a matrix that is not numerically
+    /// positive definite with the index of its first non-positive pivot and
+    /// nothing else: no message is built, so a caller that expects such
+    /// matrices (Newton trying the unprojected Hessian first) allocates
+    /// nothing. The factor is then not usable.
+    pub fn factorise_if_positive_definite(
+        &mut self,
+        matrix: SparseColMatRef<'_, usize, f64>,
+    ) -> Result<(), usize> {
         let stack = MemStack::new(&mut self.workspace);
         self.symbolic
             .factorize_numeric_llt::<f64>(
@@ -183,20 +206,10 @@ impl SparseCholesky {
                 stack,
                 Default::default(),
             )
+            .map(|_| ())
             .map_err(
-                |faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| {
-                    FactorisationError(format!(
-                        "the system matrix is not positive definite in floating point (pivot {} of \
-                     {} is not positive): the masses are lost to round-off beside dt² times the \
-                     stiffness, or a barrier's curvature swamps the rest; a larger \
-                     material.density, a smaller time step or a barrier closer to its default \
-                     may help",
-                        index + 1,
-                        matrix.nrows()
-                    ))
-                },
-            )?;
-        Ok(())
+                |faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }| index,
+            )
     }
 
     /// Solves `matrix x = rhs` in place with the factor of the last
@@ -259,6 +272,69 @@ mod tests {
                 .unwrap()
                 .factor_non_zeros();
         (alone, chosen)
+    }
+
+    /// The 7-point matrix of an `n³` grid with `diagonal` on the diagonal
+    /// and -1 off it: positive definite for a diagonal above 6, indefinite
+    /// below 6 - 6 cos(pi / (n + 1)) (its smallest eigenvalue is
+    /// `diagonal - 6 cos(pi / (n + 1))`).
+    fn grid_matrix(n: usize, diagonal: f64) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+        let (col_ptr, row_idx) = grid_pattern(n);
+        let values = (0..n * n * n)
+            .flat_map(|col| {
+                let rows = &row_idx[col_ptr[col]..col_ptr[col + 1]];
+                rows.iter()
+                    .map(move |&row| if row == col { diagonal } else { -1.0 })
+            })
+            .collect();
+        (col_ptr, row_idx, values)
+    }
+
+    #[test]
+    fn an_indefinite_matrix_is_answered_with_its_first_bad_pivot() {
+        let n = 4;
+        let dofs = n * n * n;
+        let (col_ptr, row_idx, _) = grid_matrix(n, 0.0);
+        let mut cholesky = SparseCholesky::analyse(dofs, &col_ptr, &row_idx, None).unwrap();
+        let pattern = SymbolicSparseColMatRef::new_checked(dofs, dofs, &col_ptr, None, &row_idx);
+        // Smallest eigenvalue 6.5 - 6 cos(pi/5) = 1.646: positive definite,
+        // and the solve inverts the matrix.
+        let (_, _, definite) = grid_matrix(n, 6.5);
+        let a = SparseColMatRef::new(pattern, &definite);
+        assert_eq!(cholesky.factorise_if_positive_definite(a), Ok(()));
+        let mut x = vec![1.0; dofs];
+        cholesky.solve(&mut x);
+        // A x = 1 for x = A^-1 1: check the residual through the full
+        // symmetric product.
+        let mut product = vec![0.0; dofs];
+        for col in 0..dofs {
+            for t in col_ptr[col]..col_ptr[col + 1] {
+                let row = row_idx[t];
+                product[row] += definite[t] * x[col];
+                if row != col {
+                    product[col] += definite[t] * x[row];
+                }
+            }
+        }
+        assert!(
+            product.iter().all(|p| (p - 1.0).abs() < 1e-12),
+            "{product:?}"
+        );
+        // Smallest eigenvalue 4 - 6 cos(pi/5) = -0.854: some pivot is not
+        // positive, and both calls say so (the second in words).
+        let (_, _, indefinite) = grid_matrix(n, 4.0);
+        let a = SparseColMatRef::new(pattern, &indefinite);
+        let pivot = cholesky.factorise_if_positive_definite(a).unwrap_err();
+        assert!(pivot < dofs, "{pivot}");
+        let message = cholesky.factorise(a).unwrap_err().to_string();
+        assert!(
+            message.contains(&format!("pivot {} of {dofs}", pivot + 1)),
+            "{message}"
+        );
+        // Every pivot of a negative definite matrix is negative: the first fails.
+        let (_, _, negative) = grid_matrix(n, -6.5);
+        let a = SparseColMatRef::new(pattern, &negative);
+        assert_eq!(cholesky.factorise_if_positive_definite(a), Err(0));
     }
 
     #[test]

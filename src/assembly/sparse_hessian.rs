@@ -498,17 +498,18 @@ impl<const D: usize> SparseHessian<D> {
     /// Factorises the current values (reusing the symbolic factorisation).
     /// Sequential, so results do not depend on the thread count.
     pub fn factorise(&mut self) -> Result<(), FactorisationError> {
-        let matrix = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(
-                self.dofs,
-                self.dofs,
-                &self.col_ptr,
-                None,
-                &self.row_idx,
-            ),
-            &self.values,
-        );
+        let matrix = compressed_columns(self.dofs, &self.col_ptr, &self.row_idx, &self.values);
         self.cholesky.factorise(matrix)
+    }
+
+    /// Factorises the current values if they are numerically positive
+    /// definite and says whether they were; an indefinite matrix is an
+    /// answer here, not an error, and costs no allocation (Newton with
+    /// projection on demand tries the unprojected Hessian this way). After
+    /// `false` there is no usable factor until the next factorisation.
+    pub fn factorise_if_positive_definite(&mut self) -> bool {
+        let matrix = compressed_columns(self.dofs, &self.col_ptr, &self.row_idx, &self.values);
+        self.cholesky.factorise_if_positive_definite(matrix).is_ok()
     }
 
     /// Solves `H x = rhs` in place with the factor of the last successful
@@ -552,6 +553,19 @@ fn diagonal_block_entries<const D: usize>(col_ptr: &[usize], row_idx: &[usize]) 
         }
     }
     entries
+}
+
+/// A stored lower triangle as faer's compressed-column matrix.
+fn compressed_columns<'a>(
+    dofs: usize,
+    col_ptr: &'a [usize],
+    row_idx: &'a [usize],
+    values: &'a [f64],
+) -> SparseColMatRef<'a, usize, f64> {
+    SparseColMatRef::new(
+        SymbolicSparseColMatRef::new_checked(dofs, dofs, col_ptr, None, row_idx),
+        values,
+    )
 }
 
 /// The nested-dissection order of the free vertices (by free index), from

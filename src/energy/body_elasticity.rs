@@ -96,18 +96,50 @@ impl<const D: usize> BodyElasticity<D> {
 }
 
 impl<const D: usize> BodyElasticity<D> {
-    /// Every body fills its own elements' slots of the scene's `hessian`.
-    fn fill_element_slots(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
+    /// Every body fills its own elements' slots of the scene's `hessian`
+    /// (projected if `project`).
+    fn fill_element_slots(
+        &self,
+        (x, scale, project): (&[Vector<D>], f64, bool),
+        hessian: &mut SparseHessian<D>,
+    ) {
         let block = element_slot_len(D);
         let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
         for p in &self.parts {
             let (elements, vertices) = (p.elements.clone(), p.vertices.clone());
             p.elasticity.fill_element_slots(
-                &x[vertices],
-                scale,
+                (&x[vertices], scale, project),
                 &mut hessian_slots[elements.start * block..elements.end * block],
                 &mut gradient_slots[elements.start * (D + 1)..elements.end * (D + 1)],
             );
+        }
+    }
+
+    /// Gradient and Hessian (projected if `project`) of every body in one
+    /// pass, added into `gradient` and `hessian`.
+    fn gradient_and_hessian_pass(
+        &self,
+        (x, scale, project): (&[Vector<D>], f64, bool),
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        let [part] = &self.parts[..] else {
+            self.fill_element_slots((x, scale, project), hessian);
+            let (_, gradient_slots) = hessian.element_slots_mut();
+            for p in &self.parts {
+                let slots = p.elements.start * (D + 1)..p.elements.end * (D + 1);
+                p.elasticity
+                    .add_gradient_slots(&gradient_slots[slots], &mut gradient[p.vertices.clone()]);
+            }
+            hessian.gather_element_buffer();
+            return;
+        };
+        if project {
+            part.elasticity
+                .add_gradient_and_hessian(x, scale, gradient, hessian);
+        } else {
+            part.elasticity
+                .add_gradient_and_unprojected_hessian(x, scale, gradient, hessian);
         }
     }
 }
@@ -134,7 +166,7 @@ impl<const D: usize> EnergyTerm<D> for BodyElasticity<D> {
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
         let [part] = &self.parts[..] else {
-            self.fill_element_slots(x, scale, hessian);
+            self.fill_element_slots((x, scale, true), hessian);
             hessian.gather_element_buffer();
             return;
         };
@@ -148,19 +180,17 @@ impl<const D: usize> EnergyTerm<D> for BodyElasticity<D> {
         gradient: &mut [Vector<D>],
         hessian: &mut SparseHessian<D>,
     ) {
-        let [part] = &self.parts[..] else {
-            self.fill_element_slots(x, scale, hessian);
-            let (_, gradient_slots) = hessian.element_slots_mut();
-            for p in &self.parts {
-                let slots = p.elements.start * (D + 1)..p.elements.end * (D + 1);
-                p.elasticity
-                    .add_gradient_slots(&gradient_slots[slots], &mut gradient[p.vertices.clone()]);
-            }
-            hessian.gather_element_buffer();
-            return;
-        };
-        part.elasticity
-            .add_gradient_and_hessian(x, scale, gradient, hessian);
+        self.gradient_and_hessian_pass((x, scale, true), gradient, hessian);
+    }
+
+    fn add_gradient_and_unprojected_hessian(
+        &self,
+        x: &[Vector<D>],
+        scale: f64,
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        self.gradient_and_hessian_pass((x, scale, false), gradient, hessian);
     }
 
     fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {

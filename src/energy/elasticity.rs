@@ -135,11 +135,10 @@ impl<const D: usize> Elasticity<D> {
     /// Fills the element slots of this mesh, `hessian_slots`
     /// ([`element_slot_len`] per element, packed lower triangles) and `gradient_slots` (`D + 1` per
     /// element), with `scale` times each element's gradient and
-    /// PSD-projected Hessian.
+    /// Hessian: PSD-projected if `project`, exact otherwise.
     pub fn fill_element_slots(
         &self,
-        x: &[Vector<D>],
-        scale: f64,
+        (x, scale, project): (&[Vector<D>], f64, bool),
         hessian_slots: &mut [f64],
         gradient_slots: &mut [Vector<D>],
     ) {
@@ -147,7 +146,7 @@ impl<const D: usize> Elasticity<D> {
         let mesh = &*self.mesh;
         with_material!(&self.material, m => {
             let fill = |(e, (hessian, gradient)): (usize, (&mut [f64], &mut [Vector<D>]))| {
-                element_gradient_and_hessian(m, mesh, (e, x, scale), true, ElementSlots { gradient, hessian });
+                element_gradient_and_hessian(m, mesh, (e, x, scale), project, ElementSlots { gradient, hessian });
             };
             if mesh.element_count() < PARALLEL_MIN_ELEMENTS {
                 hessian_slots
@@ -185,6 +184,20 @@ impl<const D: usize> Elasticity<D> {
                 .enumerate()
                 .for_each(add);
         }
+    }
+
+    /// Gradient and Hessian (projected if `project`) in one pass over the
+    /// elements, added into `gradient` and `hessian`.
+    fn gradient_and_hessian_pass(
+        &self,
+        (x, scale, project): (&[Vector<D>], f64, bool),
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
+        self.fill_element_slots((x, scale, project), hessian_slots, gradient_slots);
+        self.add_gradient_slots(gradient_slots, gradient);
+        hessian.gather_element_buffer();
     }
 
     /// The element Hessian of element `e`, exact or PSD-projected (through
@@ -336,7 +349,7 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
         let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
-        self.fill_element_slots(x, scale, hessian_slots, gradient_slots);
+        self.fill_element_slots((x, scale, true), hessian_slots, gradient_slots);
         hessian.gather_element_buffer();
     }
 
@@ -348,10 +361,18 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
         gradient: &mut [Vector<D>],
         hessian: &mut SparseHessian<D>,
     ) {
-        let (hessian_slots, gradient_slots) = hessian.element_slots_mut();
-        self.fill_element_slots(x, scale, hessian_slots, gradient_slots);
-        self.add_gradient_slots(gradient_slots, gradient);
-        hessian.gather_element_buffer();
+        self.gradient_and_hessian_pass((x, scale, true), gradient, hessian);
+    }
+
+    /// The same pass with the exact element Hessians `V G^T (dP/dF) G`.
+    fn add_gradient_and_unprojected_hessian(
+        &self,
+        x: &[Vector<D>],
+        scale: f64,
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        self.gradient_and_hessian_pass((x, scale, false), gradient, hessian);
     }
 
     /// The inversion policy of the material. A material that allows

@@ -68,8 +68,8 @@ pub struct ElementSlots<'a, const D: usize> {
 }
 
 /// Writes `scale * dU_e/dx` of element `e` and `scale *` its Hessian into
-/// `slots`: PSD-projected through `dP/dF` if `project`, exact otherwise (for
-/// tests).
+/// `slots`: PSD-projected through `dP/dF` if `project`, exact otherwise
+/// (Newton with projection on demand tries that first; tests compare both).
 pub fn element_gradient_and_hessian<const D: usize, M: HyperelasticMaterial<D>>(
     material: &M,
     mesh: &Mesh<D>,

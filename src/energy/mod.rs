@@ -138,6 +138,23 @@ pub trait EnergyTerm<const D: usize>: Send + Sync {
         self.add_gradient(x, scale, gradient);
         self.add_hessian(x, scale, hessian);
     }
+    /// [`Self::add_gradient_and_hessian`] without the PSD projection where
+    /// the term has one to leave out, for Newton with projection on demand
+    /// (`solver.projection`): the elasticity adds its exact element
+    /// Hessians. The default is the projected Hessian, which is the exact
+    /// one for the terms that are PSD by construction (inertia, gravity,
+    /// the ground barrier, friction's lagged Hessian, prescribed motion);
+    /// the contact barrier keeps its per-stencil projection (IPC's
+    /// practice) this way.
+    fn add_gradient_and_unprojected_hessian(
+        &self,
+        x: &[Vector<D>],
+        scale: f64,
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        self.add_gradient_and_hessian(x, scale, gradient, hessian);
+    }
     /// The largest `t` in `(0, 1]` such that the whole segment `x + s dx`,
     /// `0 <= s <= t`, stays feasible for this term, with a safety margin.
     /// Called once per line search, before any trial point is evaluated; a

@@ -49,6 +49,7 @@ const TRAILING_COLUMNS: &[&str] = &[
     "damped_steps",
     "boundary_error",
     "friction_dissipated",
+    "projected_iterations",
     "render_ms",
     "encode_ms",
 ];
@@ -88,6 +89,8 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// on their path before its solve; empty in scenes without moving regions);
 /// `friction_dissipated`: the work friction has taken out of the bodies
 /// since frame 0 (energy units; empty in scenes without friction);
+/// `projected_iterations`: Newton iterations whose direction came from the
+/// projected Hessian (all of them with `solver.projection = "always"`);
 /// `render_ms`: drawing the frame's image (draw, readback, legend),
 /// `encode_ms`: encoding and writing it (PNG frame and videos, on worker
 /// threads), both 0 without rendering and empty for frames a failed run
@@ -212,7 +215,7 @@ impl StatsWriter {
         let min_distance = contact.min_distance.map(num).unwrap_or_default();
         write!(
             row,
-            ",{min_distance},{},{:.3},{:.3},{},{},{},{},{},{}",
+            ",{min_distance},{},{:.3},{:.3},{},{},{},{},{},{},{}",
             contact.active_pairs,
             ms(contact.broad_phase),
             ms(contact.ccd),
@@ -222,6 +225,7 @@ impl StatsWriter {
             stats.damped_steps,
             stats.boundary_error.map(num).unwrap_or_default(),
             stats.friction_dissipated.map(num).unwrap_or_default(),
+            stats.projected_iterations,
         )
         .expect("formatting into a String cannot fail");
         PendingRow(row)
@@ -251,6 +255,7 @@ mod tests {
             iterations: 7,
             linear_solves: 7,
             backtracks: 1,
+            projected_iterations: 0,
             unconverged_steps: 0,
             stalled_steps: 2,
             reanalyses: 0,

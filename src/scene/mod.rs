@@ -30,10 +30,10 @@ pub use folder_name::folder_name_problem;
 pub use scene_config::{
     BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
     DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
-    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
-    MAX_NAME_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig,
-    RecordedFile, Scene, SceneConfig, TimeConfig, image_bytes,
+    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RELATIVE_TOLERANCE,
+    DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES,
+    MAX_IMAGE_BYTES, MAX_NAME_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig,
+    MeshConfig, RecordedFile, Scene, SceneConfig, TimeConfig, image_bytes,
 };
 pub use scene_error::{Diagnostic, Origin, SceneError, approx, num};
 pub use scene_override::{KeyPart, SceneOverride};

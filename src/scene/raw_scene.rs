@@ -10,6 +10,7 @@
 
 use crate::integrator::IntegratorKind;
 use crate::material::MaterialModel;
+use crate::solver::Projection;
 use serde::{Deserialize, Serialize};
 
 /// The whole scene file.
@@ -62,6 +63,7 @@ pub(crate) fn choices(key: &str) -> Option<String> {
         "material.model" => listed(&MaterialModel::ALL.map(MaterialModel::name)),
         "time.integrator" => listed(&IntegratorKind::ALL.map(IntegratorKind::name)),
         "solver.method" => listed(&["newton", "gradient-descent"]),
+        "solver.projection" => listed(&["always", "on-demand"]),
         "render.field" => listed(&["energy-density", "von-mises", "volume-ratio", "flat"]),
         _ => return None,
     })
@@ -163,11 +165,39 @@ pub(crate) struct RawTime {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub(crate) enum Method {
-    /// Projected Newton.
+    /// Newton's method (`solver.projection` says which Hessian).
     #[default]
     Newton,
     /// Fixed-step gradient descent.
     GradientDescent,
+}
+
+/// Which Hessian Newton factorises (`solver.projection`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum ProjectionName {
+    /// The projected Hessian at every iteration.
+    Always,
+    /// The unprojected Hessian first, the projected one when needed.
+    OnDemand,
+}
+
+impl From<ProjectionName> for Projection {
+    fn from(name: ProjectionName) -> Self {
+        match name {
+            ProjectionName::Always => Projection::Always,
+            ProjectionName::OnDemand => Projection::OnDemand,
+        }
+    }
+}
+
+impl From<Projection> for ProjectionName {
+    fn from(projection: Projection) -> Self {
+        match projection {
+            Projection::Always => ProjectionName::Always,
+            Projection::OnDemand => ProjectionName::OnDemand,
+        }
+    }
 }
 
 /// `[solver]`.
@@ -180,6 +210,8 @@ pub(crate) struct RawSolver {
     pub tolerance: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_iterations: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub projection: Option<ProjectionName>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_subdivisions: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -411,6 +443,10 @@ mod tests {
         assert_eq!(names("solver.method").len(), 2);
         for name in names("solver.method") {
             assert!(accepts::<Method>(&name), "{name}");
+        }
+        assert_eq!(names("solver.projection").len(), 2);
+        for name in names("solver.projection") {
+            assert!(accepts::<ProjectionName>(&name), "{name}");
         }
         assert_eq!(names("render.field").len(), 4);
         for name in names("render.field") {

@@ -9,17 +9,17 @@
 use super::SceneError;
 use super::folder_name::folder_name_problem;
 use super::raw_scene::{
-    FieldName, Generator, Method, RawBody, RawCamera, RawContact, RawEffects, RawGround,
-    RawMaterial, RawMesh, RawPinned, RawPinnedList, RawRender, RawRotate, RawScene, RawSolver,
-    RawTime,
+    FieldName, Generator, Method, ProjectionName, RawBody, RawCamera, RawContact, RawEffects,
+    RawGround, RawMaterial, RawMesh, RawPinned, RawPinnedList, RawRender, RawRotate, RawScene,
+    RawSolver, RawTime,
 };
 use super::scene_config::{
     BodyConfig, BoxMesh, DEFAULT_BACKGROUND, DEFAULT_BARRIER_WIDTH, DEFAULT_COLOUR,
     DEFAULT_DENSITY, DEFAULT_FOV, DEFAULT_FPS, DEFAULT_FRAMES, DEFAULT_GRADIENT_DESCENT_ITERATIONS,
-    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS,
-    DEFAULT_TOLERANCE, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES, MAX_IMAGE_BYTES,
-    MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig, RecordedFile, Scene,
-    SceneConfig, TimeConfig, image_bytes,
+    DEFAULT_GRADIENT_DESCENT_STEP, DEFAULT_NEWTON_ITERATIONS, DEFAULT_RELATIVE_TOLERANCE,
+    DEFAULT_RESOLUTION, DEFAULT_SUBSTEPS, FieldChoice, FileMesh, MAX_CELLS, MAX_FRAMES,
+    MAX_IMAGE_BYTES, MAX_RESOLUTION, MAX_STEPS, MAX_SUBSTEPS, MaterialConfig, MeshConfig,
+    RecordedFile, Scene, SceneConfig, TimeConfig, image_bytes,
 };
 use super::scene_document::SceneDocument;
 use super::scene_error::{approx, num, nums};
@@ -29,7 +29,7 @@ use crate::math::{UP_AXIS, Vector, Vector3};
 use crate::mesh_io::{ImportOptions, MeshFileFingerprint, load_mesh, mesh_file_fingerprint};
 use crate::render::{Camera, Colouring, RenderSettings};
 use crate::sim::{Contact, DEFAULT_FRICTION_VELOCITY, Effects, Ground, PinMotion, PinRegion};
-use crate::solver::{SolverMethod, SolverSettings};
+use crate::solver::{Projection, SolverMethod, SolverSettings};
 use std::path::{Path, PathBuf};
 
 /// Turns a [`RawScene`] into a [`Scene`] plus the resolved raw form,
@@ -87,7 +87,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         let name = self.name(raw.name.as_deref())?;
         let (bodies, raw_mesh, raw_material, raw_bodies) = self.bodies::<D>(raw)?;
         let (time, raw_time) = self.time(&raw.time)?;
-        let (solver, raw_solver) = self.solver(&raw.solver)?;
+        let (solver, raw_solver) = self.solver(&raw.solver, bounding_box_diagonal(&bodies))?;
         let (effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
         let (solver, raw_solver) =
             self.friction_solver(solver, raw_solver, &raw.solver, &effects, &bodies)?;
@@ -933,11 +933,14 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         ))
     }
 
-    fn solver(&self, raw: &RawSolver) -> VResult<(SolverSettings, RawSolver)> {
+    /// `[solver]`, for bodies whose bounding box at rest has the diagonal
+    /// `scene_size` (the default tolerance scales with it).
+    fn solver(&self, raw: &RawSolver, scene_size: f64) -> VResult<(SolverSettings, RawSolver)> {
         let method = raw.method.unwrap_or_default();
         let tolerance = self.positive(
             "solver.tolerance",
-            raw.tolerance.unwrap_or(DEFAULT_TOLERANCE),
+            raw.tolerance
+                .unwrap_or(DEFAULT_RELATIVE_TOLERANCE * scene_size),
         )?;
         let (method_settings, default_iterations, step) = match method {
             Method::Newton => {
@@ -961,6 +964,15 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 )
             }
         };
+        let projection = match (method, raw.projection) {
+            (Method::GradientDescent, Some(_)) => {
+                return Err(self.err("solver.projection", "is only used with method = \"newton\""));
+            }
+            (Method::GradientDescent, None) => None,
+            (Method::Newton, given) => {
+                Some(given.map_or(SolverSettings::default().projection, Projection::from))
+            }
+        };
         let max_iterations = match raw.max_iterations {
             Some(n) => self.count("solver.max_iterations", n, usize::MAX)?,
             None => default_iterations,
@@ -979,6 +991,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             method: Some(method),
             tolerance: Some(tolerance),
             max_iterations: Some(max_iterations as i64),
+            projection: projection.map(ProjectionName::from),
             max_subdivisions: Some(max_subdivisions as i64),
             step,
             friction_velocity: None,
@@ -989,6 +1002,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 method: method_settings,
                 tolerance,
                 max_iterations,
+                projection: projection.unwrap_or_default(),
                 max_subdivisions,
                 ..SolverSettings::default()
             },

@@ -203,6 +203,7 @@ impl<const D: usize> Simulation<D> {
             iterations: 0,
             linear_solves: 0,
             backtracks: 0,
+            projected_iterations: 0,
             unconverged_steps: 0,
             stalled_steps: 0,
             reanalyses: 0,

@@ -83,6 +83,9 @@ pub struct FrameStats<const D: usize> {
     pub linear_solves: usize,
     /// Line-search backtracks summed over the substeps.
     pub backtracks: usize,
+    /// Newton iterations whose direction came from the projected Hessian,
+    /// summed over the substeps (`solver.projection`).
+    pub projected_iterations: usize,
     /// Substeps that hit the iteration cap without meeting the tolerance.
     pub unconverged_steps: usize,
     /// Substeps whose line search stalled (found no decrease) before meeting

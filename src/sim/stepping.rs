@@ -4,7 +4,9 @@ use super::{FrameStats, SimError, Simulation, StepStats};
 use crate::energy::{EnergyTerm, PARALLEL_MIN_ELEMENTS, PrescribedMotion};
 use crate::integrator::TimeIntegrator;
 use crate::math::Vector;
-use crate::solver::{Objective, SolveError, SolverMethod, SolverStats, gradient_descent, newton};
+use crate::solver::{
+    NewtonSettings, Objective, SolveError, SolverMethod, SolverStats, gradient_descent, newton,
+};
 use std::time::Instant;
 
 /// How close to its path a prescribed vertex must come in a step, as a
@@ -233,8 +235,11 @@ impl<const D: usize> Simulation<D> {
                 hessian,
                 &mut self.positions,
                 dt,
-                solver.tolerance,
-                solver.max_iterations,
+                NewtonSettings {
+                    tolerance: solver.tolerance,
+                    max_iterations: solver.max_iterations,
+                    projection: solver.projection,
+                },
             ),
             SolverMethod::GradientDescent { step } => gradient_descent(
                 &mut objective,
@@ -502,6 +507,7 @@ impl<const D: usize> Simulation<D> {
             totals.iterations += step.iterations;
             totals.linear_solves += step.linear_solves;
             totals.backtracks += step.backtracks;
+            totals.projected_iterations += step.projected_iterations;
             totals.reanalyses += step.reanalyses;
             totals.times += step.times;
             unconverged_steps += usize::from(step.hit_iteration_cap());
@@ -519,6 +525,7 @@ impl<const D: usize> Simulation<D> {
         frame.iterations = totals.iterations;
         frame.linear_solves = totals.linear_solves;
         frame.backtracks = totals.backtracks;
+        frame.projected_iterations = totals.projected_iterations;
         frame.unconverged_steps = unconverged_steps;
         frame.stalled_steps = stalled_steps;
         frame.reanalyses = totals.reanalyses;

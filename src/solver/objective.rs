@@ -99,6 +99,22 @@ impl<'a, const D: usize> Objective<'a, D> {
         }
     }
 
+    /// [`Self::gradient_and_hessian`] with each term's unprojected Hessian
+    /// ([`EnergyTerm::add_gradient_and_unprojected_hessian`]: the exact
+    /// elastic Hessian; the contact barrier's stays projected per stencil).
+    pub fn gradient_and_unprojected_hessian(
+        &self,
+        x: &[Vector<D>],
+        gradient: &mut [Vector<D>],
+        hessian: &mut SparseHessian<D>,
+    ) {
+        gradient.iter_mut().for_each(|g| *g = Vector::<D>::zeros());
+        hessian.clear();
+        for (term, weight) in &self.terms {
+            term.add_gradient_and_unprojected_hessian(x, *weight, gradient, hessian);
+        }
+    }
+
     /// The largest feasible fraction of the step `dx` (contact, inversion).
     /// Called once per line search, before the trial points.
     pub fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {

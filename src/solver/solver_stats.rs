@@ -38,6 +38,11 @@ pub struct SolverStats {
     pub linear_solves: usize,
     /// Line-search backtracks (step halvings).
     pub backtracks: usize,
+    /// Iterations whose direction came from the projected Hessian: every
+    /// one with [`Projection::Always`](super::Projection::Always); with
+    /// projection on demand, those whose unprojected Hessian was not
+    /// positive definite or gave no descent direction.
+    pub projected_iterations: usize,
     /// Times the Hessian's pattern grew (new contact pairs) and its symbolic
     /// factorisation was redone.
     pub reanalyses: usize,
@@ -73,6 +78,7 @@ impl SolverStats {
         self.iterations += other.iterations;
         self.linear_solves += other.linear_solves;
         self.backtracks += other.backtracks;
+        self.projected_iterations += other.projected_iterations;
         self.reanalyses += other.reanalyses;
         self.damped_steps += other.damped_steps;
         self.times += other.times;

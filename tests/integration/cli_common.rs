@@ -85,6 +85,7 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "damped_steps",
     "boundary_error",
     "friction_dissipated",
+    "projected_iterations",
     "render_ms",
     "encode_ms",
 ];

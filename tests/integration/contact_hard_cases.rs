@@ -10,8 +10,9 @@
 //! - every `stats.csv` value is finite (`min_distance` may be empty: no pair
 //!   within d̂ at that frame's end), and `min_distance` > 0 where given;
 //! - `min_volume_ratio` (J) > 0 and `min_height` > 0 on every frame;
-//! - at least 99% of the steps converge (`unconverged_steps` +
-//!   `stalled_steps` over `(frames − 1) × substeps`), except for the runs in
+//! - at least 99.5% of the steps converge (`unconverged_steps` +
+//!   `stalled_steps` over `(frames − 1) × substeps`) and none stalls
+//!   (issue 30, item 4), except for the runs in
 //!   [`KNOWN_LIMITS`], which must still fall short and say so in the health
 //!   summary: a known limit that starts passing fails its test, so the list
 //!   only shrinks. The checks above hold for the known limits too.
@@ -31,7 +32,7 @@ const MATERIALS: [&str; 4] = [
     "fixed-corotated",
 ];
 
-/// Runs that converge in fewer than 99% of their steps today, and why
+/// Runs that converge in fewer than 99.5% of their steps today, and why
 /// (measured with the scenes as they are; each stays intersection-free, with
 /// positive distances, and J > 0 for the materials that forbid inversion).
 ///
@@ -39,7 +40,12 @@ const MATERIALS: [&str; 4] = [
 /// fixed corotated, IPC's relative inversion filter for Neo-Hookean, step
 /// subdivision) took every other case off this list. StVK at -500 units/s
 /// still falls short: its volume barrier is soft against a 500 units/s
-/// impact on a contact barrier, and steps fail even as sixteenths.
+/// impact on a contact barrier, and one step of the impact fails even as
+/// sixteenths (2D and 3D: 89 of 90 steps, 98.9%; with the Hessian projected
+/// on demand too, 5 December). Measured: with `solver.max_iterations = 100`
+/// both converge every step; the line search there is cut short by the
+/// inversion filter and CCD (steps of 3% to 25% of Newton's) for dozens of
+/// iterations.
 const KNOWN_LIMITS: &[(&str, &str)] = &[
     ("contact-impact-500-2d", "stvk"),
     ("contact-impact-500-3d", "stvk"),
@@ -220,10 +226,13 @@ fn check(case: &str, material: &str, r: &Run, failures: &mut Vec<String>) {
         }
     }
     let converged = r.converged_fraction();
+    let stalled = r.total("stalled_steps");
+    let meets_the_bar = converged >= 0.995 && stalled == 0.0;
     let known = KNOWN_LIMITS.contains(&(case, material));
-    if known && converged >= 0.99 {
+    if known && meets_the_bar {
         failures.push(format!(
-            "{name}: listed in KNOWN_LIMITS but {:.1}% of {} steps converge: remove it",
+            "{name}: listed in KNOWN_LIMITS but {:.1}% of {} steps converge, none stalled: \
+             remove it",
             100.0 * converged,
             r.steps()
         ));
@@ -233,9 +242,9 @@ fn check(case: &str, material: &str, r: &Run, failures: &mut Vec<String>) {
             100.0 * converged,
             r.stderr
         ));
-    } else if !known && converged < 0.99 {
+    } else if !known && !meets_the_bar {
         failures.push(format!(
-            "{name}: only {:.1}% of {} steps converged: {}",
+            "{name}: {:.1}% of {} steps converged, {stalled} stalled: {}",
             100.0 * converged,
             r.steps(),
             r.stderr

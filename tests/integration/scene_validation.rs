@@ -86,7 +86,10 @@ fn minimal_scene_gets_documented_defaults() {
     );
     assert!((c.time.dt - 1.0 / 300.0).abs() < 1e-15);
     assert_eq!(c.solver.method, SolverMethod::Newton);
-    assert_eq!((c.solver.tolerance, c.solver.max_iterations), (1e-4, 50));
+    // The tolerance scales with the scene: 1e-3 of the 1 x 1 box's
+    // diagonal, per second.
+    assert!((c.solver.tolerance - 1e-3 * 2f64.sqrt()).abs() < 1e-15);
+    assert_eq!(c.solver.max_iterations, 50);
     // Absent effects do not exist.
     assert_eq!(
         (c.effects.gravity, c.effects.ground, c.effects.pinned.len()),
@@ -104,7 +107,15 @@ fn the_settings_types_default_to_the_scene_file_defaults() {
         panic!("2D")
     };
     assert_eq!(c.time, TimeConfig::default());
-    assert_eq!(c.solver, SolverSettings::default());
+    // All but the tolerance, which a scene scales with its size (1e-3 of
+    // the 1 x 1 box's diagonal per second) and the library cannot know.
+    assert_eq!(
+        c.solver,
+        SolverSettings {
+            tolerance: 1e-3 * 2f64.sqrt(),
+            ..SolverSettings::default()
+        }
+    );
     assert_eq!(c.field, FieldChoice::default());
     assert_eq!(
         c.bodies[0].material.density,
@@ -312,6 +323,16 @@ fn errors_in_optional_tables() {
         ("[time]\nfps = 0\n", "time.fps", "> 0"),
         ("[solver]\ntolerance = 0.0\n", "solver.tolerance", "> 0"),
         ("[solver]\nstep = 1e-6\n", "solver.step", "gradient-descent"),
+        (
+            "[solver]\nmethod = \"gradient-descent\"\nprojection = \"on-demand\"\n",
+            "solver.projection",
+            "only used with method = \"newton\"",
+        ),
+        (
+            "[solver]\nprojection = \"sometimes\"\n",
+            "solver.projection",
+            "`always` or `on-demand`",
+        ),
         (
             "[solver]\nmethod = \"gradient-descent\"\nstep = -1.0\n",
             "solver.step",
