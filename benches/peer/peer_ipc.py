@@ -62,6 +62,8 @@ def parse_args():
     compare.add_argument("elasto_out")
     compare.add_argument("peer_out")
     sub.add_parser("check", help="check the peer's energies against elasto's formulas")
+    totals = sub.add_parser("summary", help="the medians of alternate.sh's runs")
+    totals.add_argument("out", help="alternate.sh's output folder")
     return parser.parse_args()
 
 
@@ -206,7 +208,10 @@ class PatternedCholesky:
         self.factor = None
         self.reanalyses = 0
 
-    def factorise(self, lower):
+    def place(self, lower):
+        """`lower` on the union of the patterns seen so far (grown, and analysed again, when it
+        has an entry the union lacks); returns the matrix and whether it was analysed."""
+        import scipy.sparse as sp
         from sksparse.cholmod import analyze
 
         lower.sum_duplicates()
@@ -214,8 +219,9 @@ class PatternedCholesky:
         cols = np.repeat(np.arange(self.n, dtype=np.int64), np.diff(lower.indptr))
         keys = cols * self.n + lower.indices
         pos = np.searchsorted(self.keys, keys)
-        pos_clipped = np.minimum(pos, len(self.keys) - 1) if len(self.keys) else pos
-        known = len(self.keys) > 0 and np.all(self.keys[pos_clipped] == keys)
+        known = len(self.keys) > 0 and np.all(
+            self.keys[np.minimum(pos, len(self.keys) - 1)] == keys
+        )
         if not known:
             self.keys = np.union1d(self.keys, keys)
             self.rows = (self.keys % self.n).astype(np.int32)
@@ -225,16 +231,15 @@ class PatternedCholesky:
             pos = np.searchsorted(self.keys, keys)
         data = np.zeros(len(self.keys))
         data[pos] = lower.data
-        import scipy.sparse as sp
-
         matrix = sp.csc_matrix((data, self.rows, self.indptr), shape=(self.n, self.n))
-        analysed = False
         if not known:
             self.factor = analyze(matrix, mode="supernodal")
             self.reanalyses += 1
-            analysed = True
+        return matrix, not known
+
+    def factorise(self, matrix):
+        """The numeric factorisation of a matrix `place` returned."""
         self.factor.cholesky_inplace(matrix)
-        return analysed
 
     def solve(self, rhs):
         return self.factor.solve_A(rhs)
@@ -392,12 +397,13 @@ class Peer:
 
             hessian = (h_el.tocsc() + h_c) * dt2 + sp.diags(diagonal, format="csc")
             lower = sp.tril(hessian, format="csc")
+            # Onto the grown pattern; analysed again when it grew (as elasto's assembly does).
+            matrix, analysed = self.cholesky.place(lower)
+            stats["reanalyses"] += int(analysed)
             self.toc("sum_and_pattern", start)
             self.toc("assembly", t_assembly)
-            # Factorisation (and the symbolic analysis when the pattern grew).
             start = self.tic()
-            if self.cholesky.factorise(lower):
-                stats["reanalyses"] += 1
+            self.cholesky.factorise(matrix)
             self.toc("factorisation", start)
             start = self.tic()
             direction = self.cholesky.solve(-gradient)
@@ -529,6 +535,72 @@ def compare(args):
     print(f"largest vertex distance over the frames: {worst:.3e}")
 
 
+PHASES = ["assembly_ms", "factorisation_ms", "solve_ms", "line_search_ms", "broad_phase_ms", "ccd_ms"]
+
+
+def read_run(folder):
+    """Totals of one run's stats.csv (elasto's or the peer's) and its `time` file's CPU seconds."""
+    with open(os.path.join(folder, "stats.csv")) as f:
+        rows = [r for r in csv.DictReader(f) if int(r["frame"]) > 0]
+    columns = ["sim_ms", "newton_iters", "elastic_derivatives_ms", "contact_derivatives_ms",
+               "sum_and_pattern_ms"] + PHASES  # fmt: skip
+    total = {c: sum(float(r[c]) for r in rows) for c in columns if c in rows[0]}
+    total["frames"] = len(rows)
+    time_file = folder + ".time"
+    if os.path.exists(time_file):
+        wall, user, system = (float(v) for v in open(time_file).read().split()[-3:])
+        total["process_wall_s"], total["process_cpu_s"] = wall, user + system
+    return total
+
+
+def summary(args):
+    """Medians over the runs of `alternate.sh`: per step, per Newton iteration, the phase split."""
+    with open(os.path.join(args.out, "reference", "scene.toml"), "rb") as f:
+        substeps = tomllib.load(f)["time"]["substeps"]
+    sides = {}
+    for side in ["elasto", "peer"]:
+        runs = sorted(d for d in os.listdir(args.out) if d.startswith(side + "-") and "." not in d)
+        sides[side] = [read_run(os.path.join(args.out, d)) for d in runs]
+
+    def median(side, key):
+        values = sorted(run[key] for run in sides[side] if key in run)
+        return values[len(values) // 2] if values else float("nan")
+
+    print(f"runs: elasto {len(sides['elasto'])}, peer {len(sides['peer'])} (medians)")
+    print("| | elasto | peer | peer / elasto |")
+    print("|---|--:|--:|--:|")
+    lines = []
+    for side in sides:
+        steps = median(side, "frames") * substeps
+        iterations = median(side, "newton_iters")
+        line = {
+            "ms per step": median(side, "sim_ms") / steps,
+            "Newton iterations per step": iterations / steps,
+            "ms per Newton iteration": median(side, "sim_ms") / iterations,
+            "process wall s": median(side, "process_wall_s"),
+            "process CPU s": median(side, "process_cpu_s"),
+        }
+        for phase in PHASES:
+            line[f"{phase[:-3]} ms per iteration (share of the step)"] = (
+                median(side, phase) / iterations,
+                median(side, phase) / median(side, "sim_ms"),
+            )
+        lines.append(line)
+    for key in lines[0]:
+        e, p = lines[0][key], lines[1][key]
+        if isinstance(e, tuple):
+            print(f"| {key} | {e[0]:.3g} ({100 * e[1]:.0f}%) | {p[0]:.3g} ({100 * p[1]:.0f}%)"
+                  f" | {p[0] / e[0]:.2f} |")
+        else:
+            print(f"| {key} | {e:.3g} | {p:.3g} | {p / e:.2f} |")
+    peer_parts = ["elastic_derivatives_ms", "contact_derivatives_ms", "sum_and_pattern_ms"]
+    runs = sides["peer"]
+    if runs and all(part in runs[0] for part in peer_parts):
+        iterations = median("peer", "newton_iters")
+        parts = ", ".join(f"{p[:-3]} {median('peer', p) / iterations:.3g}" for p in peer_parts)
+        print(f"peer's assembly, ms per iteration: {parts}")
+
+
 def check():
     """The peer's terms against elasto's formulas at random states (no elasto run needed)."""
     import ipctk
@@ -583,6 +655,8 @@ def main():
         run(args)
     elif args.command == "compare":
         compare(args)
+    elif args.command == "summary":
+        summary(args)
     else:
         check()
 
