@@ -95,6 +95,7 @@ fn bench<const D: usize>(cells: [usize; D]) -> usize {
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: 1.0 / 300.0,

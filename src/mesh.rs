@@ -8,9 +8,16 @@
 //!
 //! Lumped masses: each vertex receives `rho * V_e / (D + 1)` from every element
 //! `e` around it.
+//!
+//! [`SurfaceMesh`] (`mesh/surface_mesh.rs`): points and facets without
+//! volume, the shape of an obstacle.
 
 use crate::math::{Matrix, Vector, determinant, inverse, simplex_vertices};
 use std::collections::HashMap;
+
+mod surface_mesh;
+
+pub use surface_mesh::{SurfaceError, SurfaceMesh};
 
 /// Errors raised while building a mesh.
 #[derive(Debug, thiserror::Error, PartialEq)]

@@ -175,6 +175,7 @@ fn step_allocations(cells: usize, projection: Projection) -> (usize, usize) {
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: 0.01,

@@ -140,6 +140,9 @@ fn summary(source: &SceneSource, scene: &Scene, setup: &Setup) -> String {
             if self_contact { "on" } else { "off" }
         );
     }
+    for (k, line) in scene.obstacle_lines().iter().enumerate() {
+        let _ = writeln!(s, "  obstacle {k:<6} {line}");
+    }
     if let Some(friction) = setup.friction {
         let _ = writeln!(
             s,

@@ -204,12 +204,14 @@ fn run_scene<const D: usize>(
     };
     let frames = config.time.frames;
     let surfaces = match plan.save_surface {
-        Some(format) => Some(SurfaceSeriesWriter::create(
-            &out.join("surfaces"),
-            sim.mesh(),
-            format,
-            frames,
-        )?),
+        Some(format) => {
+            let obstacles: Vec<_> = sim.obstacles().iter().map(|o| &*o.surface).collect();
+            let moves = sim.obstacles().iter().any(|o| o.motion.is_moving());
+            Some(
+                SurfaceSeriesWriter::create(&out.join("surfaces"), sim.mesh(), format, frames)?
+                    .with_obstacles(&obstacles, moves),
+            )
+        }
         None => None,
     };
     let mut render = render_mesh.map(|render_mesh| {
@@ -310,6 +312,7 @@ fn run_scene<const D: usize>(
                         FieldChoice::Scalar(_) => Some((field_name, values.as_slice())),
                     };
                     writer.write_frame(frame, sim.positions(), shown)?;
+                    writer.write_obstacles(frame, sim.obstacle_positions())?;
                 }
                 if let Some(writer) = &mut meshes {
                     let (contact, friction) = (sim.contact_forces(), sim.friction_forces());

@@ -90,9 +90,20 @@ impl<const D: usize> PatternSource<D> {
 impl<const D: usize> SparseHessian<D> {
     /// The pattern of `mesh` with the vertices for which `free_index` is `Some` as unknowns.
     pub fn new(mesh: &Mesh<D>, free_index: Vec<Option<usize>>) -> Result<Self, FactorisationError> {
+        Self::with_unattached_vertices(mesh, &[], free_index)
+    }
+
+    /// The pattern of `mesh` and of further vertices in no element (an
+    /// obstacle's points, numbered after the mesh's, at rest at `extra`),
+    /// with the vertices for which `free_index` is `Some` as unknowns.
+    pub fn with_unattached_vertices(
+        mesh: &Mesh<D>,
+        extra: &[Vector<D>],
+        free_index: Vec<Option<usize>>,
+    ) -> Result<Self, FactorisationError> {
         let source = PatternSource {
             simplices: mesh.simplices().flatten().copied().collect(),
-            rest_positions: mesh.rest_positions().to_vec(),
+            rest_positions: [mesh.rest_positions(), extra].concat(),
             extra_pairs: Vec::new(),
         };
         Self::build(source, free_index, 0)

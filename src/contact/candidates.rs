@@ -186,7 +186,7 @@ impl<const D: usize> CandidateFinder<D> {
             mesh,
             box_of,
         );
-        let distinct_bodies = |a: usize, b: usize| self_contact || a != b;
+        let distinct_bodies = |a: usize, b: usize| mesh.may_touch(a, b, self_contact);
         cache.point_pairs.clear();
         cache.edge_pairs.clear();
         if D == 2 {

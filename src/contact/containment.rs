@@ -17,7 +17,10 @@
 //! latter): `|w| = 1` inside a closed oriented surface, `0` outside it, and
 //! `0` in a cavity (its surface counts against the outer one), so a body
 //! held in another's hole is not "inside". `|w| > 1/2` is taken as inside,
-//! which rounding cannot flip. A box test comes first, so the cost is one
+//! which rounding cannot flip. Obstacles count as bodies: a body inside a
+//! closed obstacle surface (a box obstacle is a solid box) or an obstacle
+//! inside a body is refused too, while an open obstacle (a bowl) encloses
+//! nothing. A box test comes first, so the cost is one
 //! sum over a surface per pair of bodies whose boxes hold each other's
 //! vertex.
 
@@ -59,7 +62,11 @@ pub fn first_contained_body<const D: usize>(
             continue;
         };
         let p = x[vertex];
-        for outer in (0..bodies).filter(|&b| b != inner) {
+        // Only a closed surface encloses; obstacles may overlap each other.
+        let encloses = |outer: usize| {
+            outer != inner && mesh.is_closed(outer) && mesh.may_touch(inner, outer, true)
+        };
+        for outer in (0..bodies).filter(|&b| encloses(b)) {
             if !inside_box(&boxes[outer], &p) {
                 continue;
             }

@@ -44,7 +44,7 @@ mod surface_crossing;
 pub use barrier::{barrier, barrier_derivative, barrier_second_derivative};
 pub use candidates::CandidateFinder;
 pub use collision_free_step::{CollisionFreeStep, collision_free_step};
-pub use collision_mesh::CollisionMesh;
+pub use collision_mesh::{CollisionMesh, ObstacleSurface};
 pub use containment::{Containment, first_contained_body};
 pub use stencil::{ContactStencil, MAX_STENCIL_COORDINATES, StencilEnergy, StencilKind};
 pub use surface_crossing::{SurfaceCrossing, first_surface_crossing};

@@ -56,7 +56,7 @@ pub fn first_surface_crossing<const D: usize>(
         let keep = |a: usize, b: usize| {
             let (ea, eb) = (mesh.edges()[a], mesh.edges()[b]);
             !ea.iter().any(|v| eb.contains(v))
-                && (self_contact || mesh.edge_body(a) != mesh.edge_body(b))
+                && mesh.may_touch(mesh.edge_body(a), mesh.edge_body(b), self_contact)
         };
         broad_phase.pairs_within(&edge_boxes, 0.0, keep, &mut pairs);
         let orient = |a: &Vector<D>, b: &Vector<D>, c: &Vector<D>| {
@@ -74,7 +74,7 @@ pub fn first_surface_crossing<const D: usize>(
     let keep = |e: usize, f: usize| {
         let (edge, face) = (mesh.edges()[e], mesh.faces()[f]);
         !edge.iter().any(|v| face.contains(v))
-            && (self_contact || mesh.edge_body(e) != mesh.face_body(f))
+            && mesh.may_touch(mesh.edge_body(e), mesh.face_body(f), self_contact)
     };
     broad_phase.pairs_between(&edge_boxes, &face_boxes, 0.0, keep, &mut pairs);
     let point = |v: usize| Vector3::new(x[v][0], x[v][1], x[v][2]);

@@ -315,13 +315,35 @@ impl<const D: usize> ContactBarrier<D> {
         for &k in &self.active {
             let stencil = &self.stencils[k];
             let force = normal_force(stencil, lagged, self.squared_activation, self.stiffness);
+            let mu = self.stencil_friction(stencil, mu);
             if force > 0.0
+                && mu > 0.0
                 && let Some(friction) =
                     FrictionStencil::of_contact(stencil, lagged, x_start, mu * force)
             {
                 out.push(friction);
             }
         }
+    }
+
+    /// The friction coefficient of `stencil`: an obstacle's own where one
+    /// side is an obstacle that has one, else the contact's `mu`.
+    fn stencil_friction(&self, stencil: &ContactStencil, mu: f64) -> f64 {
+        let v = stencil.vertices;
+        let other = match stencil.kind {
+            StencilKind::PointEdge | StencilKind::PointTriangle => v[1],
+            StencilKind::EdgeEdge => v[2],
+        };
+        match (self.mesh.body_of(v[0]), self.mesh.body_of(other)) {
+            (Some(a), Some(b)) => self.mesh.friction_between(a, b, mu),
+            _ => mu,
+        }
+    }
+
+    /// Whether some stencil can have friction: the contact's coefficient or
+    /// an obstacle's is above 0.
+    pub fn has_friction(&self, mu: f64) -> bool {
+        mu > 0.0 || self.mesh.has_obstacle_friction()
     }
 
     /// Adds `scale * grad B` (without `kappa`) over every candidate.

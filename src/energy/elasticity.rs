@@ -168,6 +168,8 @@ impl<const D: usize> Elasticity<D> {
     /// Adds the gradient slots (as filled by [`Self::fill_element_slots`])
     /// into `gradient`, per vertex in element order.
     pub fn add_gradient_slots(&self, gradient_slots: &[Vector<D>], gradient: &mut [Vector<D>]) {
+        // Vertices after the mesh's (an obstacle's points) have no elements.
+        let gradient = &mut gradient[..self.vertex_slot_offsets.len() - 1];
         let add = |(v, g): (usize, &mut Vector<D>)| {
             for &slot in
                 &self.vertex_slots[self.vertex_slot_offsets[v]..self.vertex_slot_offsets[v + 1]]

@@ -36,7 +36,9 @@ pub const CONTACT_STEP_FRACTION: f64 = 0.9;
 /// iteration cap, or comes within round-off of the ground.
 pub const STIFFNESS_RATIO: [f64; 2] = [1e-6, 1e6];
 
-/// `kappa sum_i b(x_i[UP] - height)` over all vertices.
+/// `kappa sum_i b(x_i[UP] - height)` over the bodies' vertices (the first
+/// ones of a position array; obstacles' vertices after them are not held
+/// by the ground).
 #[derive(Debug, Clone)]
 pub struct GroundBarrier {
     height: f64,
@@ -44,6 +46,8 @@ pub struct GroundBarrier {
     stiffness: f64,
     /// The default rule's stiffness for the bodies it was built for.
     automatic_stiffness: f64,
+    /// The bodies' vertices: `0..body_vertices` of a position array.
+    body_vertices: usize,
 }
 
 impl GroundBarrier {
@@ -54,12 +58,14 @@ impl GroundBarrier {
             width,
             stiffness,
             automatic_stiffness: stiffness,
+            body_vertices: usize::MAX,
         }
     }
 
     /// The barrier for bodies with `masses` at `positions` moving with
     /// `velocities` under `gravity`: with the stiffness `fixed` when the
-    /// scene gives one, else by the default rule.
+    /// scene gives one, else by the default rule. It holds these vertices
+    /// only (any after them in a position array are obstacles').
     pub fn for_bodies<const D: usize>(
         height: f64,
         width: f64,
@@ -76,6 +82,7 @@ impl GroundBarrier {
             width,
             stiffness: fixed.unwrap_or(automatic_stiffness),
             automatic_stiffness,
+            body_vertices: positions.len(),
         }
     }
 
@@ -102,7 +109,8 @@ impl GroundBarrier {
 
     /// The lowest vertex's height above the plane (`+inf` for no vertex).
     pub fn min_height<const D: usize>(&self, x: &[Vector<D>]) -> f64 {
-        x.iter()
+        self.held(x)
+            .iter()
             .map(|xi| self.gap(xi))
             .fold(f64::INFINITY, f64::min)
     }
@@ -120,7 +128,7 @@ impl GroundBarrier {
     ) {
         let mut up = Vector::<D>::zeros();
         up[UP_AXIS] = 1.0;
-        for (vertex, xi) in lagged.iter().enumerate() {
+        for (vertex, xi) in self.held(lagged).iter().enumerate() {
             let d = self.gap(xi);
             if d > 0.0 && d < self.width {
                 let push = -self.stiffness * barrier_derivative(d, self.width);
@@ -136,7 +144,8 @@ impl GroundBarrier {
 
     /// The first vertex on or below the plane, with its height.
     pub fn first_vertex_below<const D: usize>(&self, x: &[Vector<D>]) -> Option<(usize, f64)> {
-        x.iter()
+        self.held(x)
+            .iter()
             .position(|xi| !(self.gap(xi) > 0.0))
             .map(|v| (v, x[v][UP_AXIS]))
     }
@@ -148,7 +157,7 @@ impl GroundBarrier {
         vertex: usize,
         target: &Vector<D>,
     ) -> Option<String> {
-        (!(self.gap(target) > 0.0)).then(|| {
+        (vertex < self.body_vertices && !(self.gap(target) > 0.0)).then(|| {
             format!(
                 "puts vertex {vertex} at height {}, on or below the ground at {}",
                 target[UP_AXIS], self.height
@@ -181,6 +190,11 @@ impl GroundBarrier {
     fn gap<const D: usize>(&self, x: &Vector<D>) -> f64 {
         x[UP_AXIS] - self.height
     }
+
+    /// The part of a per-vertex array the ground holds: the bodies' vertices.
+    fn held<'a, T>(&self, x: &'a [T]) -> &'a [T] {
+        &x[..self.body_vertices.min(x.len())]
+    }
 }
 
 impl<const D: usize> EnergyTerm<D> for GroundBarrier {
@@ -190,13 +204,15 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
 
     fn value(&self, x: &[Vector<D>]) -> f64 {
         self.stiffness
-            * x.iter()
+            * self
+                .held(x)
+                .iter()
                 .map(|xi| barrier(self.gap(xi), self.width))
                 .sum::<f64>()
     }
 
     fn add_gradient(&self, x: &[Vector<D>], scale: f64, gradient: &mut [Vector<D>]) {
-        for (g, xi) in gradient.iter_mut().zip(x) {
+        for (g, xi) in gradient.iter_mut().zip(self.held(x)) {
             let d = self.gap(xi);
             if d < self.width {
                 g[UP_AXIS] += scale * self.stiffness * barrier_derivative(d, self.width);
@@ -205,7 +221,7 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
     }
 
     fn add_hessian(&self, x: &[Vector<D>], scale: f64, hessian: &mut SparseHessian<D>) {
-        for (vertex, xi) in x.iter().enumerate() {
+        for (vertex, xi) in self.held(x).iter().enumerate() {
             let d = self.gap(xi);
             if d < self.width {
                 let mut block = Matrix::<D>::zeros();
@@ -220,7 +236,8 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
     /// `dx` reaches it at `t = d / -dx_up`; the step may close at most
     /// `CONTACT_STEP_FRACTION` (0.9) of any gap.
     fn max_step(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> f64 {
-        x.iter()
+        self.held(x)
+            .iter()
             .zip(dx)
             .filter(|(_, step)| step[UP_AXIS] < 0.0)
             .map(|(xi, step)| CONTACT_STEP_FRACTION * self.gap(xi) / -step[UP_AXIS])
@@ -228,7 +245,8 @@ impl<const D: usize> EnergyTerm<D> for GroundBarrier {
     }
 
     fn blocker(&mut self, x: &[Vector<D>], dx: &[Vector<D>]) -> Option<Blocker> {
-        x.iter()
+        self.held(x)
+            .iter()
             .zip(dx)
             .position(|(xi, step)| step[UP_AXIS] < 0.0 && !(self.gap(xi) > 0.0))
             .map(Blocker::Vertex)

@@ -179,10 +179,7 @@ pub fn clean<const D: usize>(
     let points: Vec<Vector<D>> = imported
         .points
         .iter()
-        .map(|p| {
-            let q = rotation * (options.scale * Vector::<3>::new(p[0], p[1], p[2]));
-            Vector::<D>::from_fn(|i, _| q[i]) + options.translate
-        })
+        .map(|p| options.place_rotated(&rotation, *p))
         .collect();
     let n = points.len();
     let mut used = vec![false; n];
@@ -356,6 +353,24 @@ fn validate<const D: usize>(options: &ImportOptions<D>) -> Result<(), MeshImport
         );
     }
     Ok(())
+}
+
+impl<const D: usize> ImportOptions<D> {
+    /// `x' = R_z R_y R_x (s x) + t` of a point `x` (z = 0 in 2D).
+    pub fn place(&self, x: &Vector<D>) -> Vector<D> {
+        self.place_point(std::array::from_fn(|i| if i < D { x[i] } else { 0.0 }))
+    }
+
+    /// `x' = R_z R_y R_x (s x) + t` of a file's point `x` (its first `D`
+    /// coordinates after the rotation).
+    pub fn place_point(&self, x: [f64; 3]) -> Vector<D> {
+        self.place_rotated(&rotation(self.rotate), x)
+    }
+
+    fn place_rotated(&self, rotation: &Matrix<3>, p: [f64; 3]) -> Vector<D> {
+        let q = rotation * (self.scale * Vector::<3>::new(p[0], p[1], p[2]));
+        Vector::<D>::from_fn(|i, _| q[i]) + self.translate
+    }
 }
 
 /// `R_z R_y R_x` for angles in degrees about x, y and z.

@@ -2,7 +2,7 @@
 //! line (text), byte (binary data), element or vertex where it went wrong.
 
 use crate::input_file::InputFileError;
-use crate::mesh::MeshError;
+use crate::mesh::{MeshError, SurfaceError};
 use std::fmt;
 use std::path::PathBuf;
 
@@ -49,6 +49,17 @@ pub enum MeshImportError {
         path.display()
     )]
     UnknownExtension {
+        /// The file.
+        path: PathBuf,
+        /// Its extension ("" when it has none).
+        extension: String,
+    },
+    /// The extension names no surface format elasto reads (an obstacle's file).
+    #[error(
+        "{}: unknown surface file extension {extension:?}; an obstacle is read from .obj (Wavefront), .ply, or the boundary of a mesh file (.msh, .mesh, .node + .ele, .vtu)",
+        path.display()
+    )]
+    UnknownSurfaceExtension {
         /// The file.
         path: PathBuf,
         /// Its extension ("" when it has none).
@@ -225,6 +236,16 @@ pub enum MeshImportError {
         key: &'static str,
         /// Why it is invalid.
         reason: String,
+    },
+    /// A surface's facets were refused by [`crate::mesh::SurfaceMesh::new`]
+    /// (facets numbered from 0 in the file's order, polygons split into
+    /// triangles).
+    #[error("{}: {source}", path.display())]
+    Surface {
+        /// The file.
+        path: PathBuf,
+        /// The surface error.
+        source: SurfaceError,
     },
     /// The cleaned mesh was still refused by [`crate::mesh::Mesh::new`].
     #[error("{}: {source}", path.display())]

@@ -19,6 +19,9 @@
 //! | TetGen / Triangle | `.node` + `.ele` | this module (`tetgen.rs`) |
 //! | VTK XML unstructured grid | `.vtu` | the `vtkio` crate |
 //!
+//! Obstacles' surfaces ([`load_surface`], `surface_file.rs`): Wavefront
+//! `.obj` and `.ply`, or the boundary of any of the mesh files above.
+//!
 //! Every error names the file and, where it applies, the line (text), byte
 //! (binary data), element or vertex, in the file's own numbering.
 
@@ -28,6 +31,7 @@ mod imported_mesh;
 mod medit;
 mod mesh_import_error;
 mod msh;
+mod surface_file;
 mod tetgen;
 mod vtu;
 mod vtu_sizes;
@@ -35,6 +39,7 @@ mod vtu_sizes;
 pub use clean::{ImportOptions, ImportReport, clean};
 pub use imported_mesh::ImportedMesh;
 pub use mesh_import_error::{Location, MeshImportError};
+pub use surface_file::{SurfaceImport, load_surface};
 
 use crate::input_file::{MAX_MESH_FILE_BYTES, read_regular_file};
 use crate::mesh::Mesh;

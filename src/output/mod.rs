@@ -21,5 +21,6 @@ pub use output_error::OutputError;
 pub use run_folder::{RunFolder, STAGING_FOLDER, abandon_staged_runs};
 pub use stats_writer::{PendingRow, RenderTimes, StatsWriter, stats_columns};
 pub use surface_writer::{
-    Surface, SurfaceFormat, SurfaceSeriesWriter, surface_file_name, write_surface,
+    Surface, SurfaceFormat, SurfaceSeriesWriter, obstacles_file_name, surface_file_name,
+    write_surface,
 };

@@ -78,7 +78,9 @@ pub(super) fn ours_inside(name: &str) -> bool {
         || name == "frames.pvd"
         || (name.starts_with(".frame_") && name.ends_with(".partial"))
         || numbered(name, "surface_", &[".obj", ".ply"])
+        || numbered(name, "obstacles_", &[".obj", ".ply"])
         || (name.starts_with(".surface_") && name.ends_with(".tmp"))
+        || (name.starts_with(".obstacles_") && name.ends_with(".tmp"))
         || partial_of(name).is_some_and(ours_inside)
         || spare_of(name).is_some_and(ours_inside)
 }
@@ -143,7 +145,7 @@ impl OutputDir {
     /// Creates the folder and removes the outputs of an earlier run in it
     /// (only files elasto writes: `scene.toml`, `stats.csv`, `video.*`,
     /// `frames/frame_*.png`, `meshes/frame_*.vtu`, `meshes/frames.pvd`,
-    /// `surfaces/surface_*.obj|ply`), so
+    /// `surfaces/surface_*.obj|ply`, `surfaces/obstacles_*.obj|ply`), so
     /// that a shorter run leaves no stale frames. Anything else is kept.
     /// [`OutputDir::check`] has made sure that none of these is a link.
     /// For outputs written whole at the end (a study's); a run that writes

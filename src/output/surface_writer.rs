@@ -27,7 +27,7 @@
 
 use super::{OutputError, format_number};
 use crate::math::Vector;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, SurfaceMesh};
 use crate::render::write_whole_file;
 use std::fmt::{self, Write as _};
 use std::path::{Path, PathBuf};
@@ -79,6 +79,12 @@ pub fn surface_file_name(index: usize, frame_count: usize, format: SurfaceFormat
     let frame = crate::render::frame_file_name(index, frame_count);
     let number = frame.trim_start_matches("frame_").trim_end_matches(".png");
     format!("surface_{number}.{}", format.extension())
+}
+
+/// The file name of frame `index`'s obstacles in a run of `frame_count`
+/// frames: `obstacles_0042.obj` beside `surface_0042.obj`.
+pub fn obstacles_file_name(index: usize, frame_count: usize, format: SurfaceFormat) -> String {
+    surface_file_name(index, frame_count, format).replacen("surface_", "obstacles_", 1)
 }
 
 /// The boundary of a mesh, found once and written for any positions.
@@ -142,6 +148,34 @@ impl<const D: usize> Surface<D> {
             vertices,
             offsets,
             elements,
+        }
+    }
+
+    /// The obstacles' surfaces as one surface (no field): obstacle after
+    /// obstacle, the points of each that a facet uses; positions are then
+    /// the obstacles' points, concatenated in the same order.
+    pub fn of_obstacles(surfaces: &[&SurfaceMesh<D>]) -> Self {
+        let (mut vertices, mut facets) = (Vec::new(), Vec::new());
+        let mut offset = 0;
+        for surface in surfaces {
+            let mut index = vec![usize::MAX; surface.points().len()];
+            for &p in surface.facets().iter().flatten() {
+                index[p] = 0;
+            }
+            for (p, slot) in index.iter_mut().enumerate() {
+                if *slot == 0 {
+                    *slot = vertices.len();
+                    vertices.push(offset + p);
+                }
+            }
+            facets.extend(surface.facets().iter().map(|f| f.map(|p| index[p])));
+            offset += surface.points().len();
+        }
+        Self {
+            offsets: vec![0; vertices.len() + 1],
+            elements: Vec::new(),
+            facets,
+            vertices,
         }
     }
 
@@ -307,6 +341,9 @@ pub struct SurfaceSeriesWriter<const D: usize> {
     format: SurfaceFormat,
     frame_count: usize,
     surface: Surface<D>,
+    /// The obstacles' surface, and whether any obstacle moves (then it is
+    /// written with every frame, else with frame 0 only).
+    obstacles: Option<(Surface<D>, bool)>,
 }
 
 impl<const D: usize> SurfaceSeriesWriter<D> {
@@ -323,7 +360,34 @@ impl<const D: usize> SurfaceSeriesWriter<D> {
             format,
             frame_count,
             surface: Surface::new(mesh),
+            obstacles: None,
         })
+    }
+
+    /// Also writes `obstacles_NNNN.obj|ply`: the obstacles' `surfaces`,
+    /// with frame 0 only, or with every frame when one `moves`.
+    pub fn with_obstacles(mut self, surfaces: &[&SurfaceMesh<D>], moves: bool) -> Self {
+        if !surfaces.is_empty() {
+            self.obstacles = Some((Surface::of_obstacles(surfaces), moves));
+        }
+        self
+    }
+
+    /// Writes frame `index`'s obstacles at `positions` (their points,
+    /// concatenated), if the run has obstacles and they are written with
+    /// this frame.
+    pub fn write_obstacles(
+        &self,
+        index: usize,
+        positions: &[Vector<D>],
+    ) -> Result<(), OutputError> {
+        match &self.obstacles {
+            Some((surface, moves)) if index == 0 || *moves => {
+                let name = obstacles_file_name(index, self.frame_count, self.format);
+                surface.write(&self.dir.join(name), self.format, positions, None)
+            }
+            _ => Ok(()),
+        }
     }
 
     /// Writes frame `index`'s surface at `positions`, with the optional

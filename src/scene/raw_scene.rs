@@ -35,6 +35,28 @@ pub(crate) struct RawScene {
     /// `[[bodies]]`, instead of `[mesh]` and `[material]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bodies: Option<Vec<RawBody>>,
+    /// `[[obstacles]]`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obstacles: Option<Vec<RawObstacle>>,
+}
+
+/// One `[[obstacles]]` entry: its mesh, friction and rigid path.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(crate) struct RawObstacle {
+    pub mesh: RawMesh,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub velocity: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angular_velocity: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center: Option<Vec<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub until: Option<f64>,
 }
 
 /// One `[[bodies]]` entry.

@@ -432,13 +432,14 @@ pub struct SceneConfig<const D: usize> {
     /// (default: the file stem, or the built-in scene's name).
     pub name: String,
     /// The bodies, at least one (default: one default body).
-    /// They share gravity and the ground and do not collide with each other.
+    /// They share gravity, the ground and contact (`[effects.contact]`).
     pub bodies: Vec<BodyConfig<D>>,
     /// Frames and time step.
     pub time: TimeConfig,
     /// Nonlinear solver (default: [`SolverSettings::default`]).
     pub solver: SolverSettings,
-    /// Effects that exist (default: none).
+    /// Effects that exist, the obstacles (`[[obstacles]]`) among them
+    /// (default: none).
     pub effects: Effects<D>,
     /// The per-element field shown by the renderer and saved with meshes
     /// (default: the strain energy density).
@@ -661,14 +662,39 @@ impl Scene {
         common!(self, c => c.effects.ground)
     }
 
-    /// Names of the effects that exist (`gravity`, `ground`, `contact`, `pinned`).
+    /// One line per obstacle for `elasto check`: its facets, whether its
+    /// surface is closed, its motion and its own friction.
+    pub fn obstacle_lines(&self) -> Vec<String> {
+        common!(self, c => c.effects.obstacles.iter().map(|o| {
+            let facets = o.surface.facets().len();
+            let kind = if self.dimension() == 2 { "segments" } else { "triangles" };
+            let shape = if o.surface.is_closed() { "closed" } else { "open" };
+            let motion = if o.motion.is_moving() {
+                let until = o.motion.until.map_or(String::new(), |u| format!(" until t = {u} s"));
+                format!(
+                    "moving (velocity {:?}, angular velocity {} rad/s){until}",
+                    o.motion.velocity.as_slice(),
+                    o.motion.angular_velocity
+                )
+            } else {
+                "still".to_owned()
+            };
+            let friction = o.friction.map_or(String::new(), |mu| format!(", friction mu = {mu}"));
+            format!("{facets} {kind} ({shape}), {motion}{friction}")
+        }).collect())
+    }
+
+    /// Names of the effects that exist (`gravity`, `ground`, `contact`,
+    /// `pinned`, `obstacles`).
     pub fn effect_names(&self) -> Vec<&'static str> {
         let (g, gr, co, p) = common!(self, c => (c.effects.gravity.is_some(), c.effects.ground.is_some(), c.effects.contact.is_some(), !c.effects.pinned.is_empty()));
+        let o = common!(self, c => !c.effects.obstacles.is_empty());
         [
             (g, "gravity"),
             (gr, "ground"),
             (co, "contact"),
             (p, "pinned"),
+            (o, "obstacles"),
         ]
         .into_iter()
         .filter(|(on, _)| *on)

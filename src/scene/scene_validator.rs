@@ -42,6 +42,8 @@ pub(crate) struct SceneValidator<'d, 'a> {
 
 type VResult<T> = std::result::Result<T, SceneError>;
 
+mod obstacles;
+
 /// The widest ground barrier `effects.ground.a`, in multiples of the
 /// scene's size (the bodies' bounding box diagonal plus the gap they start
 /// at above the ground).
@@ -88,7 +90,9 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         let (bodies, raw_mesh, raw_material, raw_bodies) = self.bodies::<D>(raw)?;
         let (time, raw_time) = self.time(&raw.time)?;
         let (solver, raw_solver) = self.solver(&raw.solver, bounding_box_diagonal(&bodies))?;
-        let (effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
+        let (mut effects, raw_effects) = self.effects::<D>(&raw.effects, &bodies)?;
+        let (obstacles, raw_obstacles) = self.obstacles::<D>(raw.obstacles.as_deref(), &effects)?;
+        effects.obstacles = obstacles;
         let (solver, raw_solver) =
             self.friction_solver(solver, raw_solver, &raw.solver, &effects, &bodies)?;
         let ground_height = effects.ground.map(|g| g.height);
@@ -112,6 +116,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             effects: raw_effects,
             render: raw_render,
             bodies: raw_bodies,
+            obstacles: raw_obstacles,
         };
         Ok((config, resolved))
     }
@@ -226,17 +231,32 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             ));
         }
         let region = PinRegion::new(min, max);
+        let motion = self.motion::<D>(&format!("{key}."), p, region.box_center())?;
+        Ok(region.moving(motion))
+    }
+
+    /// A rigid path from the motion keys of `p` under `key` (`velocity`,
+    /// `angular_velocity`, `axis`, `center`, defaulting to `center`,
+    /// `until`, `release`); `key` ends with a dot or is empty.
+    fn motion<const D: usize>(
+        &self,
+        key: &str,
+        p: &RawPinned,
+        center: Vector<D>,
+    ) -> VResult<PinMotion<D>> {
+        // The full key in messages (with `bodies[1].` or `obstacles[0].`).
+        let at = format!("{}{key}", self.prefix);
         let mut motion = PinMotion::<D> {
-            center: region.box_center(),
+            center,
             ..PinMotion::default()
         };
         if let Some(v) = &p.velocity {
-            motion.velocity = self.vector::<D>(&format!("{key}.velocity"), v)?;
+            motion.velocity = self.vector::<D>(&format!("{key}velocity"), v)?;
         }
         if let Some(w) = p.angular_velocity {
             if !w.is_finite() {
                 return Err(self.err(
-                    &format!("{key}.angular_velocity"),
+                    &format!("{key}angular_velocity"),
                     format!("must be finite (rad/s), got {}", num(w)),
                 ));
             }
@@ -246,25 +266,25 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         for (name, given) in [("axis", p.axis.is_some()), ("center", p.center.is_some())] {
             if given && !rotates {
                 return Err(self.err(
-                    &format!("{key}.{name}"),
-                    format!("has no effect without {key}.angular_velocity; give the angular velocity (rad/s) or remove it"),
+                    &format!("{key}{name}"),
+                    format!("has no effect without {at}angular_velocity; give the angular velocity (rad/s) or remove it"),
                 ));
             }
         }
         match (&p.axis, D) {
             (Some(_), 2) => {
                 return Err(self.err(
-                    &format!("{key}.axis"),
-                    "is a 3D key: in 2D a pinned region rotates in the plane \
+                    &format!("{key}axis"),
+                    "is a 3D key: in 2D a motion rotates in the plane \
                      (counter-clockwise for angular_velocity > 0); remove it",
                 ));
             }
             (Some(a), _) => {
-                let axis = self.vector::<3>(&format!("{key}.axis"), a)?;
+                let axis = self.vector::<3>(&format!("{key}axis"), a)?;
                 let norm = axis.norm();
                 if !(norm > 0.0 && norm.is_finite()) {
                     return Err(self.err(
-                        &format!("{key}.axis"),
+                        &format!("{key}axis"),
                         format!("must be a non-zero direction, got {}", nums(a)),
                     ));
                 }
@@ -272,26 +292,26 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             }
             (None, 3) if rotates => {
                 return Err(self.err(
-                    &format!("{key}.axis"),
-                    format!("is required in 3D with {key}.angular_velocity: the direction to rotate about, e.g. [1, 0, 0]"),
+                    &format!("{key}axis"),
+                    format!("is required in 3D with {at}angular_velocity: the direction to rotate about, e.g. [1, 0, 0]"),
                 ));
             }
             (None, _) => motion.axis = Vector3::z(),
         }
         if let Some(c) = &p.center {
-            motion.center = self.vector::<D>(&format!("{key}.center"), c)?;
+            motion.center = self.vector::<D>(&format!("{key}center"), c)?;
         }
         if let Some(until) = p.until {
             if !(until >= 0.0 && until.is_finite()) {
                 return Err(self.err(
-                    &format!("{key}.until"),
+                    &format!("{key}until"),
                     format!("must be a finite time >= 0 (s), got {}", num(until)),
                 ));
             }
             if p.velocity.is_none() && !rotates {
                 return Err(self.err(
-                    &format!("{key}.until"),
-                    format!("has no effect on a region that does not move; give {key}.velocity or {key}.angular_velocity, or remove it"),
+                    &format!("{key}until"),
+                    format!("has no effect on a path that does not move; give {at}velocity or {at}angular_velocity, or remove it"),
                 ));
             }
             motion.until = Some(until);
@@ -299,13 +319,13 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         if let Some(release) = p.release {
             if !(release > 0.0 && release.is_finite()) {
                 return Err(self.err(
-                    &format!("{key}.release"),
+                    &format!("{key}release"),
                     format!("must be a finite time > 0 (s), got {}", num(release)),
                 ));
             }
             motion.release = Some(release);
         }
-        Ok(region.moving(motion))
+        Ok(motion)
     }
 
     /// The scene's name: it names the folder `out/NAME`, so it must be one
@@ -450,30 +470,7 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         }
         let path = self.mesh_folder().join(given);
         let path = std::path::absolute(&path).unwrap_or(path);
-        let scale = self.positive("mesh.scale", raw.scale.unwrap_or(1.0))?;
-        let rotate = match (&raw.rotate, D) {
-            (None, _) => [0.0; 3],
-            (Some(RawRotate::Angle(a)), 2) if a.is_finite() => [0.0, 0.0, *a],
-            (Some(RawRotate::Angles(v)), 3) if v.len() == 3 && v.iter().all(|a| a.is_finite()) => {
-                [v[0], v[1], v[2]]
-            }
-            (Some(_), 2) => {
-                return Err(self.err(
-                    "mesh.rotate",
-                    "is one finite angle in degrees in 2D (about the axis out of the plane)",
-                ));
-            }
-            (Some(_), _) => {
-                return Err(self.err(
-                    "mesh.rotate",
-                    "is three finite angles in degrees in 3D (about x, then y, then z)",
-                ));
-            }
-        };
-        let translate = match &raw.translate {
-            Some(v) => self.vector::<D>("mesh.translate", v)?,
-            None => Vector::<D>::zeros(),
-        };
+        let (scale, rotate, translate) = self.placement::<D>(raw)?;
         let merge_tolerance = raw.merge_tolerance.unwrap_or(0.0);
         if !(merge_tolerance.is_finite() && merge_tolerance >= 0.0) {
             return Err(self.err(
@@ -558,6 +555,36 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
             velocity,
             resolved,
         ))
+    }
+
+    /// `mesh.scale`, `mesh.rotate` (one angle in 2D, three in 3D, degrees)
+    /// and `mesh.translate` (defaults 1, none, none).
+    fn placement<const D: usize>(&self, raw: &RawMesh) -> VResult<(f64, [f64; 3], Vector<D>)> {
+        let scale = self.positive("mesh.scale", raw.scale.unwrap_or(1.0))?;
+        let rotate = match (&raw.rotate, D) {
+            (None, _) => [0.0; 3],
+            (Some(RawRotate::Angle(a)), 2) if a.is_finite() => [0.0, 0.0, *a],
+            (Some(RawRotate::Angles(v)), 3) if v.len() == 3 && v.iter().all(|a| a.is_finite()) => {
+                [v[0], v[1], v[2]]
+            }
+            (Some(_), 2) => {
+                return Err(self.err(
+                    "mesh.rotate",
+                    "is one finite angle in degrees in 2D (about the axis out of the plane)",
+                ));
+            }
+            (Some(_), _) => {
+                return Err(self.err(
+                    "mesh.rotate",
+                    "is three finite angles in degrees in 3D (about x, then y, then z)",
+                ));
+            }
+        };
+        let translate = match &raw.translate {
+            Some(v) => self.vector::<D>("mesh.translate", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        Ok((scale, rotate, translate))
     }
 
     fn box_mesh<const D: usize>(&self, raw: &RawMesh) -> VResult<(BoxMesh<D>, Vector<D>, RawMesh)> {
@@ -1011,8 +1038,9 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
     }
 
     /// `solver.friction_velocity` and `solver.friction_iterations`, in a
-    /// scene with friction (a `friction` above 0 in `[effects.ground]` or
-    /// `[effects.contact]`); refused without it, where they would do nothing.
+    /// scene with friction (a `friction` above 0 in `[effects.ground]`,
+    /// `[effects.contact]` or an obstacle); refused without it, where they
+    /// would do nothing.
     fn friction_solver<const D: usize>(
         &self,
         mut solver: SolverSettings,
@@ -1022,7 +1050,11 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
         bodies: &[BodyConfig<D>],
     ) -> VResult<(SolverSettings, RawSolver)> {
         let has_friction = effects.ground.is_some_and(|g| g.friction > 0.0)
-            || effects.contact.is_some_and(|c| c.friction > 0.0);
+            || effects.contact.is_some_and(|c| c.friction > 0.0)
+            || effects
+                .obstacles
+                .iter()
+                .any(|o| o.friction.is_some_and(|mu| mu > 0.0));
         if !has_friction {
             for (key, given) in [
                 ("solver.friction_velocity", raw.friction_velocity.is_some()),
@@ -1034,8 +1066,8 @@ impl<'d, 'a> SceneValidator<'d, 'a> {
                 if given {
                     return Err(self.err(
                         key,
-                        "is only used with friction: give effects.ground.friction or \
-                         effects.contact.friction above 0",
+                        "is only used with friction: give effects.ground.friction, \
+                         effects.contact.friction or an obstacle's friction above 0",
                     ));
                 }
             }

@@ -5,8 +5,8 @@ use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
 
-/// A body of a simulation. Bodies share gravity and the ground; they do not
-/// collide with each other.
+/// A body of a simulation. Bodies share gravity, the ground and the
+/// contact between and within them (`[effects.contact]`).
 #[derive(Debug, Clone)]
 pub struct Body<const D: usize> {
     /// The rest mesh, in scene coordinates, with its own vertex numbering.

@@ -1,6 +1,6 @@
 //! The effects a scene asks for; an absent effect does not exist in the simulation.
 
-use super::PinRegion;
+use super::{Obstacle, PinRegion};
 use crate::math::Vector;
 
 /// A flat ground `x[UP_AXIS] = height` with the report's log barrier.
@@ -59,6 +59,9 @@ pub struct Effects<const D: usize> {
     /// means every vertex is free. A vertex in several regions follows the
     /// first.
     pub pinned: Vec<PinRegion<D>>,
+    /// Obstacles (`[[obstacles]]`): surfaces bodies collide with, held
+    /// still or moved along a rigid path; they need `contact` (default: none).
+    pub obstacles: Vec<Obstacle<D>>,
 }
 
 impl<const D: usize> Default for Effects<D> {
@@ -68,6 +71,7 @@ impl<const D: usize> Default for Effects<D> {
             ground: None,
             contact: None,
             pinned: Vec::new(),
+            obstacles: Vec::new(),
         }
     }
 }

@@ -21,14 +21,19 @@
 //! Files: `simulation.rs` (the state and its measures), `body.rs` (one body
 //! of a scene), `pin_region.rs` (a pinned region and its rigid path),
 //! `simulation_setup.rs` (joining the bodies' meshes and
-//! building the list of terms from the scene's effects), `effects.rs`,
+//! building the list of terms from the scene's effects), `contact_setup.rs`
+//! (the ground, contact and friction terms, refused when the scene starts
+//! in contact), `effects.rs`, `obstacle.rs` (a surface bodies collide with,
+//! moved along a rigid path),
 //! `stepping.rs` (one step, one frame), `energy_guard.rs` (a Newmark step
 //! that would gain energy is taken again damped), `stats.rs` (what a step reports),
 //! `sim_error.rs`.
 
 mod body;
+mod contact_setup;
 mod effects;
 mod energy_guard;
+mod obstacle;
 mod pin_region;
 mod sim_error;
 mod simulation;
@@ -37,11 +42,12 @@ mod stats;
 mod stepping;
 
 pub use body::Body;
+pub use contact_setup::DEFAULT_FRICTION_VELOCITY;
 pub use effects::{Contact, Effects, Ground};
+pub use obstacle::Obstacle;
 pub use pin_region::{PinMotion, PinRegion, rotate};
 pub use sim_error::SimError;
 pub use simulation::Simulation;
-pub use simulation_setup::DEFAULT_FRICTION_VELOCITY;
 pub use stats::{ContactStats, EnergyBreakdown, FrameStats, StepStats};
 
 use crate::integrator::IntegratorKind;

@@ -44,15 +44,14 @@ pub enum SimError {
     /// A body starts wholly inside another (no surfaces cross, but one
     /// encloses the other; bad input).
     #[error(
-        "body {inner} starts inside body {outer} (its surface vertex {vertex} is enclosed by body \
-         {outer}'s surface): contact needs the bodies apart at the start; move body {inner} \
-         out of body {outer}"
+        "{inner} starts inside {outer} (its surface vertex {vertex} is enclosed by the surface \
+         of {outer}): contact needs them apart at the start; move {inner} out"
     )]
     BodyInsideBody {
-        /// The enclosed body.
-        inner: usize,
+        /// The enclosed body ("body 1", "obstacle 0 (obstacles[0])").
+        inner: String,
         /// The enclosing body.
-        outer: usize,
+        outer: String,
         /// A surface vertex of the enclosed body.
         vertex: usize,
     },

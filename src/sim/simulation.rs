@@ -1,6 +1,6 @@
 //! The simulation state (mesh, masses, positions, velocities, time), its energy terms and integrator, and the measures of a state.
 
-use super::{ContactStats, EnergyBreakdown, FrameStats, PinMotion, SimulationSettings};
+use super::{ContactStats, EnergyBreakdown, FrameStats, Obstacle, PinMotion, SimulationSettings};
 use crate::assembly::SparseHessian;
 use crate::energy::{
     BodyElasticity, ContactBarrier, ElementField, EnergyTerm, Friction, GroundBarrier, Inertia,
@@ -49,6 +49,14 @@ pub struct Simulation<const D: usize> {
     pub(super) motions: Vec<PinMotion<D>>,
     /// Every pinned vertex with its rest position and motion.
     pub(super) pinned: Vec<PinnedVertex<D>>,
+    /// The obstacles; their vertices follow the bodies' in the position
+    /// array, each pinned to its obstacle's path (`motions` after the
+    /// regions').
+    pub(super) obstacles: Vec<Obstacle<D>>,
+    /// The mass an obstacle's vertex has in the augmented Lagrangian that
+    /// pulls it onto its path (it has no physical mass): the bodies' mean
+    /// vertex mass.
+    pub(super) obstacle_constraint_mass: f64,
     /// The lowest total energy reached since work was last done on the
     /// bodies, for a scheme that guards its energy (`energy_guard.rs`;
     /// `None` until its first step, and after a step with moving regions).
@@ -69,19 +77,35 @@ impl<const D: usize> Simulation<D> {
         &self.mesh
     }
 
-    /// Lumped vertex masses.
+    /// Lumped vertex masses (the bodies' vertices, in the mesh's order).
     pub fn masses(&self) -> &[f64] {
-        &self.masses
+        self.of_bodies(&self.masses)
     }
 
-    /// Current vertex positions.
+    /// Current vertex positions (the bodies' vertices, in the mesh's order).
     pub fn positions(&self) -> &[Vector<D>] {
-        &self.positions
+        self.of_bodies(&self.positions)
     }
 
-    /// Current vertex velocities.
+    /// Current vertex velocities (the bodies' vertices, in the mesh's order).
     pub fn velocities(&self) -> &[Vector<D>] {
-        &self.velocities
+        self.of_bodies(&self.velocities)
+    }
+
+    /// The obstacles (`[[obstacles]]`), in the scene's order.
+    pub fn obstacles(&self) -> &[Obstacle<D>] {
+        &self.obstacles
+    }
+
+    /// The current positions of the obstacles' vertices: obstacle after
+    /// obstacle, each in its mesh's order.
+    pub fn obstacle_positions(&self) -> &[Vector<D>] {
+        &self.positions[self.mesh.vertex_count()..]
+    }
+
+    /// The bodies' part of a per-vertex array (obstacles' vertices follow).
+    fn of_bodies<'a, T>(&self, all: &'a [T]) -> &'a [T] {
+        &all[..self.mesh.vertex_count()]
     }
 
     /// Simulated time, in seconds.
@@ -122,7 +146,7 @@ impl<const D: usize> Simulation<D> {
 
     /// Which vertices are unknowns (`Some(index)`) and which are pinned (`None`).
     pub fn free_index(&self) -> &[Option<usize>] {
-        self.hessian.free_index()
+        self.of_bodies(self.hessian.free_index())
     }
 
     /// The potential terms this scene has (elasticity first, then its
@@ -159,7 +183,9 @@ impl<const D: usize> Simulation<D> {
 
     /// The contact force on every vertex, `-kappa grad B` (`None` without contact).
     pub fn contact_forces(&self) -> Option<Vec<Vector<D>>> {
-        self.contact.as_ref().map(|c| c.forces(&self.positions))
+        self.contact
+            .as_ref()
+            .map(|c| self.of_bodies(&c.forces(&self.positions)).to_vec())
     }
 
     /// The friction term (`None` in a scene without friction).
@@ -171,7 +197,9 @@ impl<const D: usize> Simulation<D> {
     /// without friction): the lagged stencils' `-grad D` at the current
     /// positions.
     pub fn friction_forces(&self) -> Option<Vec<Vector<D>>> {
-        self.friction.as_ref().map(|f| f.forces(&self.positions))
+        self.friction
+            .as_ref()
+            .map(|f| self.of_bodies(&f.forces(&self.positions)).to_vec())
     }
 
     /// The work friction has taken out of the bodies since the start

@@ -9,26 +9,17 @@
 //! The integrator gets the initial acceleration `a_0 = -M^{-1} grad U(x_0)`
 //! here (Newmark needs it; the other schemes ignore it).
 
+use super::contact_setup::{Colliding, contact_barrier, friction_term, ground_barrier};
 use super::simulation::PinnedVertex;
 use super::{Body, Effects, PinMotion, PinRegion, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
-use crate::contact::{
-    CandidateFinder, CollisionMesh, ContactStencil, StencilKind, SurfaceCrossing,
-    first_contained_body, first_surface_crossing,
-};
-use crate::energy::{
-    BodyElasticity, ContactBarrier, ContactSettings, EnergyTerm, Friction, FrictionSettings,
-    Gravity, GroundBarrier, Inertia,
-};
+use crate::contact::ObstacleSurface;
+use crate::energy::{BodyElasticity, EnergyTerm, Gravity, Inertia};
 use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
 use crate::solver::SolverMethod;
 use std::sync::Arc;
-
-/// Friction's default velocity threshold `eps_v`, per second, as a fraction
-/// of the bodies' bounding-box diagonal.
-pub const DEFAULT_FRICTION_VELOCITY: f64 = 1e-3;
 
 fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
     SimError::InvalidSetting {
@@ -169,8 +160,10 @@ impl<const D: usize> Simulation<D> {
                     .map(|s| s.iter().map(|v| v + offset).collect::<Vec<_>>()),
             );
         }
+        let body_vertices = positions.len();
         let pins: Vec<Option<PinRegion<D>>> = bodies.iter().map(|b| b.pinned).collect();
         let body_velocities: Vec<Vector<D>> = bodies.iter().map(|b| b.velocity).collect();
+        let body_count = bodies.len();
         let (mesh, elasticity) = if bodies.len() == 1 {
             let body = bodies.into_iter().next().expect("one body");
             let mesh = Arc::new(body.mesh);
@@ -253,6 +246,44 @@ impl<const D: usize> Simulation<D> {
         let mut velocities: Vec<Vector<D>> = (0..positions.len())
             .map(|v| body_velocities[owner[v]])
             .collect();
+        // The obstacles' points after the bodies' vertices, each pinned to
+        // its obstacle's path, massless.
+        let mut free_index = free_index;
+        if !effects.obstacles.is_empty() && effects.contact.is_none() {
+            return Err(invalid(
+                "obstacles",
+                "obstacles take part in contact: the scene needs [effects.contact]",
+            ));
+        }
+        let mut obstacle_surfaces = Vec::with_capacity(effects.obstacles.len());
+        for (k, obstacle) in effects.obstacles.iter().enumerate() {
+            check_motion(&format!("obstacles[{k}]"), &obstacle.motion)?;
+            if obstacle.motion.release.is_some() {
+                return Err(invalid(
+                    "obstacles",
+                    format!("obstacles[{k}]: an obstacle cannot be released"),
+                ));
+            }
+            motions.push(obstacle.motion);
+            let offset = positions.len();
+            for x in obstacle.surface.points() {
+                pinned.push(PinnedVertex {
+                    vertex: positions.len(),
+                    rest: *x,
+                    motion: motions.len() - 1,
+                });
+                positions.push(*x);
+                velocities.push(Vector::<D>::zeros());
+                masses.push(0.0);
+                owner.push(body_count + k);
+                free_index.push(None);
+            }
+            obstacle_surfaces.push(ObstacleSurface {
+                surface: &obstacle.surface,
+                offset,
+                friction: obstacle.friction,
+            });
+        }
         for p in &pinned {
             velocities[p.vertex] = motions[p.motion].velocity_of(&p.rest, 0.0);
         }
@@ -260,27 +291,40 @@ impl<const D: usize> Simulation<D> {
         if let Some(g) = effects.gravity {
             effect_terms.push(Box::new(Gravity::new(masses.clone(), g)));
         }
+        let n = body_vertices;
         let ground = match effects.ground {
             Some(ground) => Some(ground_barrier(
                 ground,
-                &masses,
-                &positions,
-                &velocities,
+                &masses[..n],
+                &positions[..n],
+                &velocities[..n],
                 effects.gravity,
             )?),
             None => None,
         };
         let contact = match effects.contact {
-            Some(contact) => Some(contact_barrier(
-                &mesh, &owner, &masses, &positions, contact,
-            )?),
+            Some(contact) => {
+                let colliding = Colliding {
+                    mesh: &mesh,
+                    owner: &owner,
+                    body_count,
+                    obstacles: obstacle_surfaces,
+                };
+                Some(contact_barrier(
+                    colliding,
+                    &masses[..n],
+                    &positions,
+                    n,
+                    contact,
+                )?)
+            }
             None => None,
         };
-        let friction = friction_term(&effects, &positions, settings.solver.friction_velocity)?;
-        let hessian =
-            SparseHessian::new(&mesh, free_index).map_err(|e| SimError::SetupFailure {
-                reason: e.to_string(),
-            })?;
+        let friction = friction_term(&effects, &positions[..n], settings.solver.friction_velocity)?;
+        let hessian = SparseHessian::with_unattached_vertices(&mesh, &positions[n..], free_index)
+            .map_err(|e| SimError::SetupFailure {
+            reason: e.to_string(),
+        })?;
         let mut integrator = settings.integrator.build(positions.len());
         let mut potentials: Vec<&dyn EnergyTerm<D>> =
             effect_terms.iter().map(|t| t.as_ref()).collect();
@@ -297,6 +341,9 @@ impl<const D: usize> Simulation<D> {
             hessian.free_index(),
             &positions,
         ));
+        // An obstacle's point has no mass; the augmented Lagrangian that
+        // pulls it onto its path weighs it as the bodies' mean vertex.
+        let obstacle_constraint_mass = masses[..n].iter().sum::<f64>() / n.max(1) as f64;
         Ok(Self {
             inertia: Inertia::new(masses.clone()),
             elasticity,
@@ -318,241 +365,9 @@ impl<const D: usize> Simulation<D> {
             energy_ceiling: None,
             motions,
             pinned,
+            obstacle_constraint_mass,
+            obstacles: effects.obstacles,
         })
-    }
-}
-
-/// The ground's barrier for the bodies' vertices at `positions` (none on or
-/// below the plane) with their `masses` and `velocities`.
-fn ground_barrier<const D: usize>(
-    ground: super::Ground,
-    masses: &[f64],
-    positions: &[Vector<D>],
-    velocities: &[Vector<D>],
-    gravity: Option<Vector<D>>,
-) -> Result<GroundBarrier, SimError> {
-    if !(ground.activation_distance > 0.0 && ground.activation_distance.is_finite()) {
-        return Err(invalid(
-            "a",
-            format!(
-                "the barrier width must be positive, got {}",
-                ground.activation_distance
-            ),
-        ));
-    }
-    if let Some(kappa) = ground.stiffness
-        && !(kappa > 0.0 && kappa.is_finite())
-    {
-        return Err(invalid(
-            "kappa",
-            format!("must be positive and finite, got {kappa}"),
-        ));
-    }
-    let barrier = GroundBarrier::for_bodies(
-        ground.height,
-        ground.activation_distance,
-        ground.stiffness,
-        masses,
-        positions,
-        velocities,
-        gravity,
-    );
-    if let Some((vertex, height)) = barrier.first_vertex_below(positions) {
-        return Err(SimError::BelowGround {
-            vertex,
-            height,
-            ground: ground.height,
-        });
-    }
-    Ok(barrier)
-}
-
-/// The friction term, if the ground or the contact has a coefficient above
-/// 0 (and exists): with the velocity threshold given, or 1e-3 times the
-/// bounding-box diagonal of the bodies at `positions` per second.
-fn friction_term<const D: usize>(
-    effects: &Effects<D>,
-    positions: &[Vector<D>],
-    velocity_threshold: Option<f64>,
-) -> Result<Option<Friction<D>>, SimError> {
-    let contact = effects.contact.map_or(0.0, |c| c.friction);
-    let ground = effects.ground.map_or(0.0, |g| g.friction);
-    for (key, mu) in [("contact", contact), ("ground", ground)] {
-        if !(mu >= 0.0 && mu.is_finite()) {
-            return Err(invalid(
-                key,
-                format!("the friction coefficient must be 0 or more and finite, got {mu}"),
-            ));
-        }
-    }
-    if contact == 0.0 && ground == 0.0 {
-        return Ok(None);
-    }
-    let velocity_threshold = velocity_threshold
-        .unwrap_or_else(|| DEFAULT_FRICTION_VELOCITY * bounding_box_diagonal(positions));
-    Ok(Some(Friction::new(FrictionSettings {
-        contact,
-        ground,
-        velocity_threshold,
-    })))
-}
-
-/// The diagonal of the axis-aligned box around `positions`.
-fn bounding_box_diagonal<const D: usize>(positions: &[Vector<D>]) -> f64 {
-    let (low, high) = positions.iter().fold(
-        (
-            Vector::<D>::repeat(f64::INFINITY),
-            Vector::<D>::repeat(f64::NEG_INFINITY),
-        ),
-        |(low, high), x| (low.inf(x), high.sup(x)),
-    );
-    (high - low).norm()
-}
-
-/// The contact term of the bodies (vertex `v` of body `owner[v]`) at their
-/// rest positions, refused when two surface primitives start closer than
-/// `d_hat` (bodies that start intersecting or touching).
-fn contact_barrier<const D: usize>(
-    mesh: &Mesh<D>,
-    owner: &[usize],
-    masses: &[f64],
-    positions: &[Vector<D>],
-    contact: super::Contact,
-) -> Result<ContactBarrier<D>, SimError> {
-    let diagonal = bounding_box_diagonal(positions);
-    let distance = contact.distance.unwrap_or(1e-3 * diagonal);
-    if !(distance > 0.0 && distance.is_finite()) {
-        return Err(invalid(
-            "contact",
-            format!("the contact distance must be positive and finite, got {distance}"),
-        ));
-    }
-    if let Some(kappa) = contact.stiffness
-        && !(kappa > 0.0 && kappa.is_finite())
-    {
-        return Err(invalid(
-            "contact",
-            format!("the contact stiffness must be positive and finite, got {kappa}"),
-        ));
-    }
-    let collision_mesh = CollisionMesh::new(mesh, owner);
-    if let Some(crossing) = first_surface_crossing(&collision_mesh, positions, contact.self_contact)
-    {
-        let edge = |e: usize| collision_mesh.edges()[e];
-        let (first, second, a, b) = match crossing {
-            SurfaceCrossing::Edges(a, b) => {
-                let (ea, eb) = (edge(a), edge(b));
-                (
-                    format!("edge ({}, {})", ea[0], ea[1]),
-                    format!("edge ({}, {})", eb[0], eb[1]),
-                    owner[ea[0]],
-                    owner[eb[0]],
-                )
-            }
-            SurfaceCrossing::EdgeThroughFace { edge: e, face } => {
-                let (ea, f) = (edge(e), collision_mesh.faces()[face]);
-                (
-                    format!("edge ({}, {})", ea[0], ea[1]),
-                    format!("triangle ({}, {}, {})", f[0], f[1], f[2]),
-                    owner[ea[0]],
-                    owner[f[0]],
-                )
-            }
-        };
-        return Err(SimError::ContactAtStart {
-            bodies: bodies_label(a, b),
-            first,
-            second,
-            distance: 0.0,
-            activation: distance,
-        });
-    }
-    let mut stencils = Vec::new();
-    CandidateFinder::default().find(
-        &collision_mesh,
-        positions,
-        None,
-        distance,
-        contact.self_contact,
-        &mut stencils,
-    );
-    let closest = stencils
-        .iter()
-        .map(|s| (s, s.distance_squared(positions)))
-        .filter(|(_, d2)| *d2 < distance * distance)
-        .min_by(|a, b| a.1.total_cmp(&b.1));
-    if let Some((stencil, d2)) = closest {
-        return Err(contact_at_start(
-            stencil,
-            d2.max(0.0).sqrt(),
-            distance,
-            owner,
-        ));
-    }
-    if let Some(c) = first_contained_body(&collision_mesh, positions) {
-        return Err(SimError::BodyInsideBody {
-            inner: c.inner,
-            outer: c.outer,
-            vertex: c.vertex,
-        });
-    }
-    let settings = ContactSettings {
-        activation_distance: distance,
-        stiffness: contact.stiffness,
-        self_contact: contact.self_contact,
-    };
-    Ok(ContactBarrier::new(
-        collision_mesh,
-        settings,
-        masses,
-        diagonal,
-        positions,
-    ))
-}
-
-/// The error for a stencil that starts within `d_hat`, naming its bodies and primitives.
-fn contact_at_start(
-    stencil: &ContactStencil,
-    distance: f64,
-    activation: f64,
-    owner: &[usize],
-) -> SimError {
-    let v = stencil.vertices;
-    let (first, second, body_a, body_b) = match stencil.kind {
-        StencilKind::PointEdge => (
-            format!("vertex {}", v[0]),
-            format!("edge ({}, {})", v[1], v[2]),
-            owner[v[0]],
-            owner[v[1]],
-        ),
-        StencilKind::PointTriangle => (
-            format!("vertex {}", v[0]),
-            format!("triangle ({}, {}, {})", v[1], v[2], v[3]),
-            owner[v[0]],
-            owner[v[1]],
-        ),
-        StencilKind::EdgeEdge => (
-            format!("edge ({}, {})", v[0], v[1]),
-            format!("edge ({}, {})", v[2], v[3]),
-            owner[v[0]],
-            owner[v[2]],
-        ),
-    };
-    SimError::ContactAtStart {
-        bodies: bodies_label(body_a, body_b),
-        first,
-        second,
-        distance,
-        activation,
-    }
-}
-
-/// "body 0 and body 1", or "parts of body 0 ..." when both are one body.
-fn bodies_label(a: usize, b: usize) -> String {
-    if a == b {
-        format!("parts of body {a} (its surface self-intersects or folds within d_hat)")
-    } else {
-        format!("body {} and body {}", a.min(b), a.max(b))
     }
 }
 

@@ -367,7 +367,11 @@ impl<const D: usize> Simulation<D> {
         if let Some(ground) = self.ground.as_ref().filter(|_| settings.ground > 0.0) {
             ground.friction_stencils(lagged, x_start, settings.ground, &mut stencils);
         }
-        if let Some(contact) = self.contact.as_mut().filter(|_| settings.contact > 0.0) {
+        if let Some(contact) = self
+            .contact
+            .as_mut()
+            .filter(|c| c.has_friction(settings.contact))
+        {
             contact.friction_stencils(lagged, x_start, settings.contact, &mut stencils);
         }
         friction.lag(stencils, dt);
@@ -470,7 +474,12 @@ impl<const D: usize> Simulation<D> {
             }
             direction[p.vertex] = target - self.positions[p.vertex];
             displacement = displacement.max(direction[p.vertex].norm());
-            targets.push((p.vertex, target, self.masses[p.vertex]));
+            let mass = if self.masses[p.vertex] > 0.0 {
+                self.masses[p.vertex]
+            } else {
+                self.obstacle_constraint_mass
+            };
+            targets.push((p.vertex, target, mass));
         }
         let fraction = self.feasible_fraction(&direction);
         if fraction >= 1.0 {

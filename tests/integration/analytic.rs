@@ -172,6 +172,7 @@ fn hanging_bar_tip<const D: usize>(cells_along: usize, cells_across: usize) -> (
         ground: None,
         contact: None,
         pinned: vec![pinned],
+        obstacles: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: 1e4,

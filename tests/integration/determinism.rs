@@ -29,6 +29,7 @@ fn simulate<const D: usize>(cells: [usize; D]) -> Vec<Vector<D>> {
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     let velocity = Vector::<D>::from_fn(|k, _| if k == 0 { 1.0 } else { -2.0 });
     let mut sim = Simulation::new(
@@ -146,6 +147,7 @@ fn contact_run(threads: usize) -> (Vec<Vector<3>>, usize) {
                 friction: 0.0,
             }),
             pinned: Vec::new(),
+            obstacles: Vec::new(),
         };
         let mut sim = Simulation::with_bodies(
             vec![

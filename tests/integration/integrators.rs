@@ -42,6 +42,7 @@ fn bar(gravity: Option<Vector2>) -> (Mesh<2>, Effects<2>) {
             Vector2::new(-1.0, -1.0),
             Vector2::new(1e-9, 2.0),
         )],
+        obstacles: Vec::new(),
     };
     (mesh, effects)
 }
@@ -415,6 +416,7 @@ fn a_3d_drop_runs_with_every_integrator() {
             }),
             contact: None,
             pinned: Vec::new(),
+            obstacles: Vec::new(),
         };
         let mut sim = Simulation::new(
             mesh,

@@ -45,6 +45,7 @@ mod layering;
 mod mesh;
 mod mesh_import;
 mod moving_boundaries;
+mod obstacles;
 mod readme_manual;
 mod regression_array_items_could_not_be_set;
 mod regression_bad_input_caught_late;

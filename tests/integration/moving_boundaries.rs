@@ -50,6 +50,7 @@ fn simulation<const D: usize>(
         ground: None,
         contact: None,
         pinned,
+        obstacles: Vec::new(),
     };
     let mut settings = SimulationSettings {
         dt,
@@ -394,6 +395,7 @@ fn a_move_into_the_ground_is_refused() {
         }),
         contact: None,
         pinned: vec![plate],
+        obstacles: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: 0.1,
@@ -446,6 +448,7 @@ fn a_motion_with_bad_numbers_is_bad_input() {
             ground: None,
             contact: None,
             pinned: vec![end::<3>(-1.0, 1e-9).moving(motion)],
+            obstacles: Vec::new(),
         };
         let error = Simulation::new(
             bar::<3>(2.0, 2),
@@ -639,6 +642,7 @@ fn a_body_region_moves_like_an_effects_region() {
             Vector::<2>::new(-1.0, -1.0),
             Vector::<2>::new(1e-9, 1.5),
         )],
+        obstacles: Vec::new(),
     };
     let mut sim = Simulation::with_bodies(
         vec![still, dragged],

@@ -34,6 +34,7 @@ fn a_factorisation_that_fails_says_why_in_words() {
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: 1.0 / 300.0,

@@ -20,6 +20,7 @@ fn falling_box(solver: SolverSettings, ground: bool) -> Simulation<2> {
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     Simulation::new(
         mesh,

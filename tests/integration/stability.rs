@@ -60,6 +60,7 @@ fn run<const D: usize>(case: Case) -> (f64, f64, f64, usize) {
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     let settings = SimulationSettings {
         dt: case.dt,

@@ -98,6 +98,7 @@ pub fn report_drop(release_height: f64, a: f64, settings: SimulationSettings) ->
         }),
         contact: None,
         pinned: Vec::new(),
+        obstacles: Vec::new(),
     };
     Simulation::new(
         mesh,
