@@ -1,14 +1,19 @@
 //! Renderer benchmark: milliseconds per frame (median of N) for drawing,
-//! readback, the legend overlay and PNG encoding, at 1280x720 and 1920x1080,
-//! for a 2D and a 3D box mesh.
+//! readback, pasting the tile into the base image (and the legend where it
+//! meets it) and PNG encoding, at 1280x720 and 1920x1080, for a 2D and a 3D
+//! box mesh; and the time per frame of N frames drawn one after the other
+//! (each read back before the next is drawn) and pipelined as a run draws
+//! them (frame `k` read back while `k + 1` is drawn, through the ring of
+//! staging buffers).
 //!
 //! `cargo bench --bench render` (N = 15 frames, or `ELASTO_BENCH_FRAMES`).
 
+use elasto::encode::write_png;
 use elasto::math::{Vector, Vector2, Vector3};
 use elasto::mesh::Mesh;
 use elasto::render::{
-    Colouring, FrameTimings, RenderFrame, RenderMesh, RenderSettings, Renderer,
-    adapter_description, write_png,
+    Colouring, FRAMES_IN_FLIGHT, FrameTimings, RenderFrame, RenderMesh, RenderSettings, Renderer,
+    adapter_description,
 };
 use std::time::{Duration, Instant};
 
@@ -28,10 +33,10 @@ fn main() {
     println!("adapter: {adapter}");
     println!("median of {samples} frames, in milliseconds per frame\n");
     println!(
-        "| mesh                         | image     |  draw | readback | legend | PNG encode+write | total |"
+        "| mesh                         | image     |  draw | readback | paste + legend | PNG encode+write | total | one by one | pipelined |"
     );
     println!(
-        "|------------------------------|-----------|------:|---------:|-------:|-----------------:|------:|"
+        "|------------------------------|-----------|------:|---------:|---------------:|-----------------:|------:|-----------:|----------:|"
     );
 
     let box_2d = Mesh::<2>::axis_aligned_box(Vector2::zeros(), Vector2::new(4.0, 1.0), [40, 10])
@@ -96,8 +101,23 @@ fn main() {
                     .zip(&encode)
                     .map(|(t, e)| t.draw + t.readback + t.overlay + *e),
             );
+            // The same frames one by one, and pipelined as a run draws them.
+            let start = Instant::now();
+            for i in 0..samples {
+                renderer.render(&frames[i % frames.len()]).expect("render");
+            }
+            let one_by_one = start.elapsed().as_secs_f64() * 1e3 / samples as f64;
+            let start = Instant::now();
+            for i in 0..samples {
+                renderer.start(&frames[i % frames.len()]).expect("render");
+                if renderer.frames_in_flight() == FRAMES_IN_FLIGHT {
+                    renderer.finish().expect("render");
+                }
+            }
+            while renderer.finish().expect("render").is_some() {}
+            let pipelined = start.elapsed().as_secs_f64() * 1e3 / samples as f64;
             println!(
-                "| {name:<28} | {width}x{height:<4} | {draw:5.1} | {readback:8.1} | {overlay:6.1} | {png:16.1} | {total:5.1} |"
+                "| {name:<28} | {width}x{height:<4} | {draw:5.1} | {readback:8.1} | {overlay:14.1} | {png:16.1} | {total:5.1} | {one_by_one:10.1} | {pipelined:9.1} |"
             );
         }
     }

@@ -144,7 +144,9 @@ fn vs_fringe(@builtin(vertex_index) index: u32, fringe: FringeIn) -> FringeOut {
     return out;
 }
 
-@group(1) @binding(0) var backdrop: texture_2d<f32>;
+// The run's backdrop (the image without the bodies), read where a fringe
+// gives a pixel back to what lies behind the body.
+@group(0) @binding(1) var backdrop: texture_2d<f32>;
 
 @fragment
 fn fs_fringe(in: FringeOut) -> @location(0) vec4<f32> {

@@ -1,5 +1,5 @@
-// Per-run uniforms shared by every shader: src/render/renderer.rs prepends
-// this file to each of them. Matches `Globals` in src/render/renderer.rs.
+// Per-run uniforms shared by every shader: src/render/pipelines.rs prepends
+// this file to each of them. Matches `Globals` there.
 struct Globals {
     view_proj: mat4x4<f32>,
     // Eye position (w = 1) or unit direction towards the viewer (w = 0).
@@ -22,7 +22,7 @@ struct Globals {
     // The two ground colours (fill and hatching in 2D, checker in 3D), linear RGB.
     ground_light: vec4<f32>,
     ground_dark: vec4<f32>,
-    // Frame tile (src/render/body_tile.rs in 2D, scene_tile.rs in 3D): clip-space scale (xy) and
+    // Frame tile (src/render/frame_target.rs): clip-space scale (xy) and
     // offset (zw) from the whole image to the tile's target; (1, 1, 0, 0)
     // when the whole image is drawn.
     tile: vec4<f32>,

@@ -1,6 +1,7 @@
 // 2D ground: the half-plane below the ground line, filled, with engineering
 // hatching just under the surface. Drawn in screen space from the ground's
-// pixel row; the surface line itself is drawn by the line pipeline.
+// pixel row in the whole image (a tile's pixel is moved there by its
+// origin); the surface line itself is drawn by the line pipeline.
 
 // `Globals` and its binding `g` come from globals.wgsl, prepended when loaded.
 
@@ -14,11 +15,13 @@ fn vs_main(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
     );
     let c = corners[index];
     let top = clamp(1.0 - 2.0 * (g.ground_center.w - 1.0) / g.viewport.y, -1.0, 1.0);
-    return vec4<f32>(c.x, mix(-1.0, top, c.y), 1.0, 1.0);
+    return to_tile(vec4<f32>(c.x, mix(-1.0, top, c.y), 1.0, 1.0));
 }
 
 @fragment
-fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+fn fs_main(@builtin(position) tile_frag: vec4<f32>) -> @location(0) vec4<f32> {
+    // The pixel's centre in the whole image.
+    let frag = tile_frag.xy + g.tile_origin.xy;
     let s = g.viewport.z;
     let below = frag.y - g.ground_center.w;
     if below < -0.5 {

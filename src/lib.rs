@@ -8,7 +8,8 @@
 //! renderer → files. The simulation core ([`math`], [`input_file`], [`mesh`],
 //! [`material`], [`assembly`], [`contact`], [`mesh_io`], [`energy`],
 //! [`finite_volume`], [`solver`], [`integrator`], [`sim`]) knows nothing about
-//! rendering; the renderer ([`render`]) knows nothing about materials. Contact
+//! rendering; the renderer ([`render`]) knows nothing about materials, and
+//! the encoders ([`encode`]) only see its whole images. Contact
 //! geometry ([`contact`]: collision mesh, broad phase, distances, CCD) sits
 //! beside [`assembly`], below the energy terms. `docs/architecture.md` follows
 //! the data's path through these modules.
@@ -24,7 +25,7 @@
 //! 5. [`solver`]
 //! 6. [`integrator`]
 //! 7. [`sim`]
-//! 8. [`output`], [`render`], [`compare`], [`study`]
+//! 8. [`output`], [`render`], [`encode`], [`compare`], [`study`]
 //! 9. [`scene`]
 //! 10. [`sweep`]
 //! 11. [`app`]
@@ -51,8 +52,10 @@ pub mod mesh_io;
 pub mod sim;
 pub mod solver;
 
-// Outputs: data files, rendering, image comparison and studies (layer 8).
+// Outputs: data files, rendering, image and video files, image comparison
+// and studies (layer 8).
 pub mod compare;
+pub mod encode;
 pub mod output;
 pub mod render;
 pub mod study;

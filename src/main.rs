@@ -47,7 +47,7 @@ fn exit_on_interrupt() {
     };
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            elasto::render::remove_partial_files();
+            elasto::encode::remove_partial_files();
             let kept = elasto::output::abandon_staged_runs();
             let name = match signal {
                 SIGINT => "SIGINT",

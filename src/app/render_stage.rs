@@ -19,14 +19,16 @@
 //! llvmpipe compiles their shaders (about 0.2 s for the default scene), and
 //! the first image follows the last step without that wait.
 //!
-//! The stage hands out, in frame order, the cost of every frame completely
-//! written ([`FrameCost`]), for `stats.csv` and `--profile`.
+//! The stage hands out, in frame order, the cost of every frame written
+//! ([`FrameCost`]) once the run is complete, for `--profile`. `stats.csv`
+//! does not wait for it: its rows are written as the frames are simulated.
 
 use super::process_clock::{Span, Stopwatch};
 use super::progress::{Progress, ProgressMode};
+use crate::encode::{FrameCost, RenderOutputs, SequenceWriter};
 use crate::render::{
-    FrameCost, PreparedRenderer, PreparingRenderer, RenderError, RenderFrame, RenderMesh,
-    RenderOutputs, RenderSettings, Renderer, SequenceWriter,
+    PreparedRenderer, PreparingRenderer, RenderError, RenderFrame, RenderMesh, RenderSettings,
+    Renderer,
 };
 use std::sync::mpsc::{self, Sender};
 
@@ -139,32 +141,18 @@ impl RenderStage {
         Ok(())
     }
 
-    /// The costs of the frames completely written since the last call, in
-    /// frame order (none yet for a deferred run).
-    pub fn take_costs(&mut self) -> Vec<FrameCost> {
-        match &mut self.pending {
-            Pending::Streaming(Some(writer)) => writer.take_costs(),
-            _ => Vec::new(),
-        }
-    }
-
     /// Completes the frames and videos: waits for the encoders of a streamed
-    /// run, or renders a deferred one with its own progress. `written` gets
-    /// the costs of the frames [`RenderStage::take_costs`] did not hand out,
-    /// in frame order, as they are written. For a deferred run, gives the
+    /// run, or renders a deferred one with its own progress. Returns the
+    /// cost of every frame, in frame order, and for a deferred run the
     /// stretch from its first frame sent to be drawn to its last written.
     pub fn finish(
         mut self,
         progress_mode: ProgressMode,
-        written: &mut dyn FnMut(Vec<FrameCost>),
-    ) -> Result<Option<Span>, RenderError> {
+    ) -> Result<(Vec<FrameCost>, Option<Span>), RenderError> {
         // A run without frames never sent one: the warm-up must not wait.
         drop(self.warm_up_frame.take());
         match self.pending {
-            Pending::Streaming(Some(writer)) => {
-                written(writer.finish_with_costs()?);
-                Ok(None)
-            }
+            Pending::Streaming(Some(writer)) => Ok((writer.finish_with_costs()?, None)),
             Pending::Streaming(None) => Err(RenderError::InvalidInput(
                 "the run ended before its first frame".into(),
             )),
@@ -179,22 +167,21 @@ impl RenderStage {
                 )?;
                 let frames_watch = Stopwatch::start();
                 let mut reported = 0;
-                let mut report = |written_frames: usize| {
-                    while reported < written_frames {
-                        progress.update(reported + 1, || format!("frame_{reported:04}.png"));
-                        reported += 1;
+                let mut report = |written: usize| {
+                    if written > reported {
+                        reported = written;
+                        progress.update(written, || format!("frame_{:04}.png", written - 1));
                     }
                 };
                 for frame in &frames {
                     writer.push(frame)?;
                     report(writer.frames_written());
-                    written(writer.take_costs());
                 }
-                written(writer.finish_with_costs()?);
+                let costs = writer.finish_with_costs()?;
                 let frames_span = frames_watch.span();
                 report(frames.len());
                 progress.finish();
-                Ok(Some(frames_span))
+                Ok((costs, Some(frames_span)))
             }
         }
     }
@@ -224,6 +211,8 @@ mod tests {
             triangle_element: vec![0],
             edges: vec![[0, 1], [1, 2], [0, 2]],
             element_count: 1,
+            obstacle_triangles: Vec::new(),
+            obstacle_edges: Vec::new(),
         };
         let (dropped, done) = mpsc::channel();
         std::thread::spawn(move || {

@@ -4,12 +4,13 @@
 //! frame 0 is the initial state, so a run simulates `(frames - 1) * substeps`
 //! steps and its video lasts `frames / fps` seconds.
 //!
-//! Data outputs are written as each frame is simulated. Images are too when
+//! Data outputs are written as each frame is simulated, `stats.csv` among
+//! them, whatever the rendering does: an interrupted run keeps the rows of
+//! every frame simulated. Images are written as the frames come too when
 //! the scene fixes the camera and the colour range; otherwise they are
-//! rendered after the simulation (see [`RenderStage`]). A `stats.csv` row
-//! ends with the frame's rendering times, so when rendering it is written
-//! once its frame is on disk ([`FrameLog`]); `--profile` prints the phases
-//! of every frame as a table at the end ([`RunProfile`]).
+//! rendered after the simulation (see [`RenderStage`]). `--profile` prints
+//! the phases of every frame, rendering included, as a table at the end
+//! ([`RunProfile`]).
 
 use super::cli::{RunArgs, VideoChoice};
 use super::preflight::{self, SceneInput};
@@ -19,18 +20,12 @@ use super::render_stage::RenderStage;
 use super::run_health::RunHealth;
 use super::run_profile::{RunProfile, RunSpans};
 use super::{AppError, build_simulation, scene_overrides, shortcut_overrides};
+use crate::encode::{RenderOutputs, VideoFormat, check_video_support, video_file_name};
 use crate::energy::ElementField;
-use crate::output::{
-    MeshSeriesWriter, OutputDir, PendingRow, RenderTimes, StatsWriter, SurfaceFormat,
-    SurfaceSeriesWriter,
-};
-use crate::render::{
-    FrameCost, RenderFrame, RenderMesh, RenderOutputs, VideoFormat, check_video_support,
-    video_file_name,
-};
+use crate::output::{MeshSeriesWriter, OutputDir, StatsWriter, SurfaceFormat, SurfaceSeriesWriter};
+use crate::render::{RenderFrame, RenderMesh};
 use crate::scene::{FieldChoice, Scene, SceneConfig, SceneSource};
-use crate::sim::FrameStats;
-use std::collections::VecDeque;
+use crate::sim::Simulation;
 use std::path::PathBuf;
 
 /// Runs `elasto run`.
@@ -186,7 +181,7 @@ fn run_scene<const D: usize>(
         }
     };
     let mut sim = build_simulation(config, input)?;
-    let render_mesh = plan.render.then(|| RenderMesh::from_mesh(sim.mesh()));
+    let render_mesh = plan.render.then(|| render_view(&sim));
 
     // 2. The output folder: refused (untouched) when it holds anything, unless
     //    --force; even then links and things in the way of the outputs are.
@@ -195,8 +190,8 @@ fn run_scene<const D: usize>(
     let mut out = out.begin_run()?;
     let mut kept_note = EarlierRunNote(out.replaces_earlier_run().then(|| out.path().to_owned()));
     out.write("scene.toml", &resolved_header(&plan.resolved))?;
-    let stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
-    let mut log = FrameLog::new(stats, plan.render, plan.profile.is_some());
+    let mut stats = StatsWriter::create(&out.join("stats.csv"), &sim.energy_names())?;
+    let mut profile = plan.profile.map(|_| RunProfile::default());
     let mut meshes = if plan.save_meshes {
         Some(MeshSeriesWriter::create(&out.join("meshes"))?)
     } else {
@@ -242,8 +237,6 @@ fn run_scene<const D: usize>(
     let mut progress = Progress::start(plan.progress, label, frames);
     let mut health = RunHealth::new(sim.allows_inversion(), sim.is_closed());
     let mut unconverged_reported = false;
-    // The frames, until one fails: then the rows waiting for their images
-    // are written all the same, with empty rendering cells.
     let simulated = (|| -> Result<(), AppError> {
         for frame in 0..frames {
             check_adapter(false)?;
@@ -257,7 +250,20 @@ fn run_scene<const D: usize>(
                         source,
                     })?
             };
-            log.simulated(frame, &frame_stats)?;
+            stats.write_frame(frame, &frame_stats)?;
+            if let Some(profile) = &mut profile
+                && frame > 0
+            {
+                let contact = frame_stats.contact.map(|c| {
+                    [
+                        c.broad_phase,
+                        c.ccd,
+                        c.assembly,
+                        frame_stats.times.pattern_growth,
+                    ]
+                });
+                profile.simulated(&frame_stats.times, frame_stats.wall_time, contact);
+            }
             let steps = if frame == 0 { 0 } else { config.time.substeps };
             let touched_before = health.first_contact_failure().is_some();
             let energy_rose_before = health.energy_rise().is_some();
@@ -332,9 +338,8 @@ fn run_scene<const D: usize>(
                 }
                 if let Some(render) = &mut render {
                     render
-                        .add(RenderFrame::from_positions(sim.positions(), &values))
+                        .add(RenderFrame::from_positions(sim.drawn_positions(), &values))
                         .map_err(AppError::Render)?;
-                    log.rendered(render.take_costs())?;
                 }
             }
             progress.update(frame + 1, || {
@@ -354,30 +359,19 @@ fn run_scene<const D: usize>(
         Some(render) => {
             let deferred = !render.is_streaming();
             let watch = Stopwatch::start();
-            let mut written = Ok(());
-            let finished = render.finish(plan.progress, &mut |costs| {
-                if written.is_ok() {
-                    written = log.rendered(costs);
-                }
-            });
+            let (costs, frames) = render.finish(plan.progress).map_err(AppError::Render)?;
             rendering = deferred.then(|| watch.span());
-            match finished {
-                Ok(frames) => {
-                    frames_span = frames;
-                    written
-                }
-                Err(error) => Err(AppError::Render(error)),
+            frames_span = frames;
+            if let Some(profile) = &mut profile {
+                costs.iter().for_each(|cost| profile.rendered(cost));
             }
+            Ok(())
         }
         None => Ok(()),
     });
     if let Err(error) = rendered {
-        if let Some(render) = &mut render {
-            let _ = log.rendered(render.take_costs());
-        }
         // Dropping the renderer first removes its partial videos.
         drop(render);
-        let _ = log.abandon();
         return Err(error);
     }
     // The run is complete: its outputs replace an earlier run's.
@@ -385,7 +379,7 @@ fn run_scene<const D: usize>(
     out.complete()?;
     // A table that cannot be written is reported after the run's own lines:
     // its files are complete either way.
-    let table_written = match (plan.profile, &log.profile) {
+    let table_written = match (plan.profile, &profile) {
         (Some(start), Some(profile)) => {
             let spans = RunSpans {
                 run: start.span(),
@@ -447,79 +441,19 @@ impl Drop for EarlierRunNote {
     }
 }
 
-/// `stats.csv` rows waiting for their frame's rendering times, and the
-/// `--profile` record.
-struct FrameLog {
-    stats: StatsWriter,
-    render: bool,
-    pending: VecDeque<PendingRow>,
-    profile: Option<RunProfile>,
-}
-
-impl FrameLog {
-    fn new(stats: StatsWriter, render: bool, profile: bool) -> Self {
-        Self {
-            stats,
-            render,
-            pending: VecDeque::new(),
-            profile: profile.then(RunProfile::default),
-        }
-    }
-
-    /// Frame `frame` is simulated: its row is written now without rendering,
-    /// otherwise once its image is written.
-    fn simulated<const D: usize>(
-        &mut self,
-        frame: usize,
-        stats: &FrameStats<D>,
-    ) -> Result<(), AppError> {
-        if let Some(profile) = &mut self.profile
-            && frame > 0
-        {
-            let contact = stats
-                .contact
-                .map(|c| [c.broad_phase, c.ccd, c.assembly, stats.times.pattern_growth]);
-            profile.simulated(&stats.times, stats.wall_time, contact);
-        }
-        let row = self.stats.row(frame, stats);
-        if self.render {
-            self.pending.push_back(row);
-            Ok(())
-        } else {
-            Ok(self.stats.write_row(row, Some(RenderTimes::default()))?)
-        }
-    }
-
-    /// The next frames, in order, are written to disk.
-    fn rendered(&mut self, costs: Vec<FrameCost>) -> Result<(), AppError> {
-        for cost in costs {
-            if let Some(profile) = &mut self.profile {
-                profile.rendered(&cost);
-            }
-            let row = self
-                .pending
-                .pop_front()
-                .expect("a frame is rendered only after it is simulated");
-            let times = RenderTimes {
-                render: cost.render(),
-                encode: cost.encode(),
-            };
-            self.stats.write_row(row, Some(times))?;
-        }
-        Ok(())
-    }
-
-    /// The run failed: the rows still waiting are written with empty
-    /// rendering cells.
-    fn abandon(&mut self) -> Result<(), AppError> {
-        while let Some(row) = self.pending.pop_front() {
-            self.stats.write_row(row, None)?;
-        }
-        Ok(())
-    }
-}
-
 /// The resolved scene with a note on how to reuse it.
+/// What the renderer draws of `sim`: its bodies, then its obstacles, whose
+/// points follow the bodies' vertices in [`Simulation::drawn_positions`].
+fn render_view<const D: usize>(sim: &Simulation<D>) -> RenderMesh {
+    let mut view = RenderMesh::from_mesh(sim.mesh());
+    let mut first_vertex = sim.mesh().vertex_count();
+    for obstacle in sim.obstacles() {
+        view.add_obstacle(first_vertex, obstacle.surface.facets(), &obstacle.fill);
+        first_vertex += obstacle.surface.points().len();
+    }
+    view
+}
+
 fn resolved_header(resolved: &str) -> String {
     format!(
         "# The fully resolved scene of this run (defaults filled in, overrides applied).\n\

@@ -3,7 +3,8 @@
 //! Every output frame contributes one duration per phase: the solver's
 //! phases summed over the frame's substeps (frame 0, the initial state, is
 //! not simulated and does not count for them), and the rendering phases of
-//! its image. The table gives, per phase, the median over the frames in
+//! its image (which `stats.csv` does not carry: its rows do not wait for
+//! the images). The table gives, per phase, the median over the frames in
 //! milliseconds and the total over the run in seconds, and the run's wall
 //! time. Rendering phases run on other threads than the simulation (drawing
 //! on the main thread, PNG and video encoding on workers), so the totals can
@@ -17,7 +18,7 @@
 //! the wall time (see `process_clock`), out of the machine's cores.
 
 use super::process_clock::Span;
-use crate::render::FrameCost;
+use crate::encode::FrameCost;
 use crate::solver::PhaseTimes;
 use std::fmt::Write as _;
 use std::time::Duration;
@@ -31,7 +32,7 @@ const PHASES: [&str; 10] = [
     "other simulation",
     "draw",
     "readback",
-    "legend",
+    "paste + legend",
     "PNG encode + write",
     "video encode + write",
 ];

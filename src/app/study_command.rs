@@ -236,7 +236,7 @@ pub fn study(args: &StudyArgs) -> Result<(), AppError> {
     let image = image::RgbImage::from_raw(PLOT_SIZE.0, PLOT_SIZE.1, pixels)
         .expect("the plot has width * height RGB pixels");
     let rgba = image::DynamicImage::ImageRgb8(image).into_rgba8();
-    crate::render::write_png(&out.join("study.png"), &rgba).map_err(AppError::Render)?;
+    crate::encode::write_png(&out.join("study.png"), &rgba).map_err(AppError::Render)?;
 
     // The files are complete: a report that cannot be written is said last.
     let report_written = super::standard_output::print(&convergence_report(&table));

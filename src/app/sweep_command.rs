@@ -19,7 +19,7 @@ use super::process_clock::cores;
 use super::progress::ProgressMode;
 use super::run_command::videos;
 use super::{scene_overrides, shortcut_overrides};
-use crate::render::VideoFormat;
+use crate::encode::VideoFormat;
 use crate::scene::{Scene, SceneSource};
 use crate::sweep::{
     ChildRun, CurrentRun, ProgressStyleChoice, RUN_RECORD_FILE, RunIdentity, RunRecord, RunSpec,

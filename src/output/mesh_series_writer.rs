@@ -11,9 +11,9 @@
 //! still a pre-release with a large dependency tree).
 
 use super::OutputError;
+use crate::encode::write_whole_file;
 use crate::math::Vector;
 use crate::mesh::Mesh;
-use crate::render::write_whole_file;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 

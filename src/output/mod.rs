@@ -19,7 +19,7 @@ pub use number_text::format_number;
 pub use output_dir::{FolderLock, OutputDir};
 pub use output_error::OutputError;
 pub use run_folder::{RunFolder, STAGING_FOLDER, abandon_staged_runs};
-pub use stats_writer::{PendingRow, RenderTimes, StatsWriter, stats_columns};
+pub use stats_writer::{StatsWriter, stats_columns};
 pub use surface_writer::{
     Surface, SurfaceFormat, SurfaceSeriesWriter, obstacles_file_name, surface_file_name,
     write_surface,

@@ -2,7 +2,7 @@
 
 use super::run_folder::STAGING_FOLDER;
 use super::{OutputError, RunFolder};
-use crate::render::write_whole_file;
+use crate::encode::write_whole_file;
 use std::path::{Path, PathBuf};
 
 /// Names of the files and folders a run writes at the top of its folder.

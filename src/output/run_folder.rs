@@ -127,7 +127,7 @@ impl RunFolder {
     /// failed write leaves no partial file under `name`.
     pub fn write(&self, name: &str, contents: &str) -> Result<PathBuf, OutputError> {
         let path = self.join(name);
-        crate::render::write_whole_file(&path, contents.as_bytes())
+        crate::encode::write_whole_file(&path, contents.as_bytes())
             .map_err(OutputError::io("write", &path))?;
         Ok(path)
     }

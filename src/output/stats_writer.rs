@@ -1,6 +1,6 @@
 //! `stats.csv`: one row per output frame, written and flushed as each frame
-//! finishes. A rendered frame finishes when its image is written: its row
-//! ([`PendingRow`]) waits for the rendering times that end it.
+//! is simulated, whatever the rendering does (its times are in `elasto run
+//! --profile`'s table).
 
 use super::OutputError;
 use super::number_text::format_number as num;
@@ -50,8 +50,6 @@ const TRAILING_COLUMNS: &[&str] = &[
     "boundary_error",
     "friction_dissipated",
     "projected_iterations",
-    "render_ms",
-    "encode_ms",
 ];
 
 /// The columns of `stats.csv`, in order, for a simulation whose energy
@@ -90,11 +88,7 @@ const TRAILING_COLUMNS: &[&str] = &[
 /// `friction_dissipated`: the work friction has taken out of the bodies
 /// since frame 0 (energy units; empty in scenes without friction);
 /// `projected_iterations`: Newton iterations whose direction came from the
-/// projected Hessian (all of them with `solver.projection = "always"`);
-/// `render_ms`: drawing the frame's image (draw, readback, legend),
-/// `encode_ms`: encoding and writing it (PNG frame and videos, on worker
-/// threads), both 0 without rendering and empty for frames a failed run
-/// never rendered.
+/// projected Hessian (all of them with `solver.projection = "always"`).
 pub fn stats_columns(energy_names: &[&str]) -> Vec<String> {
     LEADING_COLUMNS
         .iter()
@@ -102,20 +96,6 @@ pub fn stats_columns(energy_names: &[&str]) -> Vec<String> {
         .chain(TRAILING_COLUMNS)
         .map(|c| (*c).to_owned())
         .collect()
-}
-
-/// One frame's row of `stats.csv` but its rendering columns, which come
-/// once the frame is rendered ([`StatsWriter::write_row`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct PendingRow(String);
-
-/// The rendering time of one frame: the `render_ms` and `encode_ms` columns.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct RenderTimes {
-    /// Drawing the image: draw, readback, legend.
-    pub render: Duration,
-    /// Encoding and writing it: PNG frame and videos.
-    pub encode: Duration,
 }
 
 /// Streams frame statistics to a CSV file.
@@ -140,36 +120,19 @@ impl StatsWriter {
         Ok(writer)
     }
 
-    /// Appends the row of output frame `frame` of a run without rendering
-    /// (`render_ms` and `encode_ms` are 0) and flushes it to disk.
+    /// Appends the row of output frame `frame` and flushes it to disk.
     pub fn write_frame<const D: usize>(
         &mut self,
         frame: usize,
         stats: &FrameStats<D>,
     ) -> Result<(), OutputError> {
-        let row = self.row(frame, stats);
-        self.write_row(row, Some(RenderTimes::default()))
+        let mut row = self.row(frame, stats);
+        row.push('\n');
+        self.write_line(&row)
     }
 
-    /// Appends a row with its rendering times (`None`: the frame was never
-    /// rendered, the cells are empty) and flushes it to disk.
-    pub fn write_row(
-        &mut self,
-        row: PendingRow,
-        render: Option<RenderTimes>,
-    ) -> Result<(), OutputError> {
-        let mut line = row.0;
-        match render {
-            Some(t) => write!(line, ",{:.3},{:.3}", ms(t.render), ms(t.encode)),
-            None => write!(line, ",,"),
-        }
-        .expect("formatting into a String cannot fail");
-        line.push('\n');
-        self.write_line(&line)
-    }
-
-    /// The row of output frame `frame` but its rendering columns.
-    pub fn row<const D: usize>(&self, frame: usize, stats: &FrameStats<D>) -> PendingRow {
+    /// The row of output frame `frame`, without its line end.
+    fn row<const D: usize>(&self, frame: usize, stats: &FrameStats<D>) -> String {
         let com = |axis: usize| {
             if axis < D {
                 stats.centre_of_mass[axis]
@@ -228,7 +191,7 @@ impl StatsWriter {
             stats.projected_iterations,
         )
         .expect("formatting into a String cannot fail");
-        PendingRow(row)
+        row
     }
 
     fn write_line(&mut self, line: &str) -> Result<(), OutputError> {
@@ -306,39 +269,6 @@ mod tests {
         let row: Vec<&str> = text.lines().nth(2).unwrap().split(',').collect();
         assert_eq!(row[12], "2.5");
         assert_eq!(row[13], "0.25");
-        assert_eq!(column("render_ms"), "0.000");
-        assert_eq!(column("encode_ms"), "0.000");
-    }
-
-    #[test]
-    fn rendered_rows_carry_their_times_and_unrendered_ones_empty_cells() {
-        let tmp = tempfile::tempdir().unwrap();
-        let path = tmp.path().join("stats.csv");
-        let names = ["kinetic", "elastic"];
-        let columns = stats_columns(&names);
-        let mut writer = StatsWriter::create(&path, &names).unwrap();
-        let first = writer.row(0, &stats::<2>(None));
-        let second = writer.row(1, &stats::<2>(None));
-        let times = RenderTimes {
-            render: Duration::from_micros(12_345),
-            encode: Duration::from_micros(2_500),
-        };
-        writer.write_row(first, Some(times)).unwrap();
-        writer.write_row(second, None).unwrap();
-        let text = std::fs::read_to_string(&path).unwrap();
-        let rows: Vec<Vec<&str>> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').collect())
-            .collect();
-        let cell =
-            |row: usize, name: &str| rows[row][columns.iter().position(|c| c == name).unwrap()];
-        assert_eq!(rows[0].len(), columns.len());
-        assert_eq!(rows[1].len(), columns.len());
-        assert_eq!(cell(0, "render_ms"), "12.345");
-        assert_eq!(cell(0, "encode_ms"), "2.500");
-        assert_eq!(cell(1, "frame"), "1");
-        assert_eq!(cell(1, "render_ms"), "");
-        assert_eq!(cell(1, "encode_ms"), "");
+        assert_eq!(columns.last().unwrap(), "projected_iterations");
     }
 }

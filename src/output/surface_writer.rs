@@ -19,16 +19,16 @@
 //! `float`, and OBJ numbers printed from the same `f32`), z = 0 in 2D.
 //!
 //! File names follow the frames': `frame_0042.png` is `surface_0042.obj`
-//! (the same number of digits, see [`crate::render::frame_file_name`]). Each
+//! (the same number of digits, see [`crate::encode::frame_file_name`]). Each
 //! file is written under a hidden temporary name and renamed when complete.
 //! PLY is written by hand: a header and two little-endian arrays is all the
 //! format needs, where the `ply-rs-bw` crate would build a map per vertex
 //! (the tests read the files back with `ply-rs-bw`).
 
 use super::{OutputError, format_number};
+use crate::encode::write_whole_file;
 use crate::math::Vector;
 use crate::mesh::{Mesh, SurfaceMesh};
-use crate::render::write_whole_file;
 use std::fmt::{self, Write as _};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -76,7 +76,7 @@ impl FromStr for SurfaceFormat {
 /// The file name of frame `index`'s surface in a run of `frame_count`
 /// frames: `surface_0042.obj` beside `frame_0042.png`.
 pub fn surface_file_name(index: usize, frame_count: usize, format: SurfaceFormat) -> String {
-    let frame = crate::render::frame_file_name(index, frame_count);
+    let frame = crate::encode::frame_file_name(index, frame_count);
     let number = frame.trim_start_matches("frame_").trim_end_matches(".png");
     format!("surface_{number}.{}", format.extension())
 }

@@ -40,7 +40,7 @@ pub(crate) fn srgb_to_linear3(c: [f32; 3]) -> [f32; 3] {
 }
 
 /// Converts a linear RGB colour to 8-bit sRGB.
-pub(crate) fn linear_to_srgb8(c: [f32; 3]) -> [u8; 3] {
+pub fn linear_to_srgb8(c: [f32; 3]) -> [u8; 3] {
     c.map(|v| (linear_to_srgb(v) * 255.0).round() as u8)
 }
 

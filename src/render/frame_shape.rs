@@ -53,8 +53,9 @@ impl FrameShape {
         if let Some(t) = mesh
             .triangles
             .iter()
+            .chain(&mesh.obstacle_triangles)
             .flatten()
-            .chain(mesh.edges.iter().flatten())
+            .chain(mesh.edges.iter().chain(&mesh.obstacle_edges).flatten())
             .find(|&&v| v as usize >= vertex_count)
         {
             return invalid(format!(
@@ -145,6 +146,8 @@ mod tests {
             triangle_element: vec![0],
             edges: vec![[0, 1], [1, 2], [2, 0]],
             element_count: 1,
+            obstacle_triangles: Vec::new(),
+            obstacle_edges: Vec::new(),
         }
     }
 
@@ -192,5 +195,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(error.contains("refers to vertex 3"), "{error}");
+        // Obstacles index the same positions.
+        let mut mesh = triangle();
+        mesh.obstacle_triangles.push([0, 1, 5]);
+        let error = FrameShape::of_run(&settings, &mesh, &[frame(3, 1)])
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("refers to vertex 5"), "{error}");
+        let mut mesh = triangle();
+        mesh.obstacle_edges.push([4, 1]);
+        assert!(FrameShape::of_run(&settings, &mesh, &[frame(3, 1)]).is_err());
     }
 }

@@ -11,8 +11,8 @@
 //! WebGL2-level downlevel limits with the adapter's own texture size limits,
 //! each clamped to what the adapter has.
 //!
-//! [`wait`] and [`check_scope`] turn the device's waits and error scopes
-//! into [`RenderError::Gpu`] naming what the renderer was doing.
+//! [`check_scope`] turns the device's error scopes into
+//! [`RenderError::Gpu`] naming what the renderer was doing.
 
 use super::RenderError;
 use std::sync::{Arc, Mutex};
@@ -204,17 +204,6 @@ fn backend_names(backends: wgpu::Backends) -> String {
     } else {
         names.join(", ")
     }
-}
-
-/// Blocks until the GPU has finished all submitted work.
-pub(crate) fn wait(device: &wgpu::Device, during: &'static str) -> Result<(), RenderError> {
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map(|_| ())
-        .map_err(|e| RenderError::Gpu {
-            during,
-            message: e.to_string(),
-        })
 }
 
 /// Turns the error an error scope caught, if any, into a [`RenderError::Gpu`].

@@ -1,5 +1,9 @@
 //! The colour-bar legend, drawn on the CPU over the rendered image.
 //!
+//! It is drawn once per run into the base image every frame starts from,
+//! and again only over a frame whose bodies reach its footprint
+//! ([`Legend::footprint`]; the camera frames the bodies beside it).
+//!
 //! A vertical viridis bar on the right, the label above it and "nice" tick
 //! values (1, 2, 2.5 or 5 times a power of ten) beside it, on a translucent
 //! white panel. Text is drawn by [`super::text`] (an ASCII-and-symbols subset
@@ -7,6 +11,7 @@
 //! image height (reference: 720 pixels).
 
 use super::colormap::viridis;
+use super::pixel_rect::PixelRect;
 use super::text::{self, text_width};
 use image::RgbaImage;
 
@@ -99,15 +104,10 @@ impl Legend {
         (self.panel.w + 2.0 * self.margin).ceil() as u32
     }
 
-    /// The text size in pixels.
-    pub fn font_px(&self) -> f32 {
-        self.font_px
-    }
-
     /// The pixels `[x0, y0, x1, y1)` of the panel, which holds everything
     /// the legend draws (the title, the bar and the ticks are laid out
     /// inside it).
-    pub fn panel_pixels(&self) -> [i64; 4] {
+    fn panel_pixels(&self) -> [i64; 4] {
         let Rect { x, y, w, h } = self.panel;
         [
             x.floor() as i64,
@@ -117,15 +117,17 @@ impl Legend {
         ]
     }
 
-    /// The same legend moved by `(dx, dy)` whole pixels, to be drawn on a
-    /// canvas that holds only its neighbourhood.
-    pub fn translated(&self, dx: i64, dy: i64) -> Legend {
-        let mut moved = self.clone();
-        for rect in [&mut moved.panel, &mut moved.bar] {
-            rect.x += dx as f32;
-            rect.y += dy as f32;
-        }
-        moved
+    /// The pixels drawing the legend can change in a `width` x `height`
+    /// image: its panel, which holds the title, the bar and the ticks, two
+    /// pixels further all round (glyphs and the rounded corners' blending),
+    /// inside the image.
+    pub fn footprint(&self, width: u32, height: u32) -> PixelRect {
+        const MARGIN: i64 = 2;
+        let [x0, y0, x1, y1] = self.panel_pixels();
+        let clamp = |v: i64, size: u32| v.clamp(0, i64::from(size)) as u32;
+        let (x0, y0) = (clamp(x0 - MARGIN, width), clamp(y0 - MARGIN, height));
+        let (x1, y1) = (clamp(x1 + MARGIN, width), clamp(y1 + MARGIN, height));
+        PixelRect::new(x0, y0, x1 - x0, y1 - y0)
     }
 
     /// Draws the legend onto an sRGB image.
@@ -340,11 +342,38 @@ mod tests {
     }
 
     #[test]
-    fn drawing_changes_only_the_panel() {
-        let mut image = RgbaImage::from_pixel(640, 360, image::Rgba([10, 10, 10, 255]));
+    fn drawing_changes_only_the_footprint() {
+        let cases = [
+            ("strain energy density", [-3.0, 7.5], 640, 360),
+            ("value", [0.0, 1.0], 320, 240),
+            ("von Mises stress", [0.0, 2.5e6], 1280, 720),
+            ("J", [0.93, 1.07], 1920, 1080),
+            ("", [-1.0e-4, 3.0e-4], 800, 800),
+        ];
+        for (seed, (label, range, width, height)) in cases.into_iter().enumerate() {
+            let legend = Legend::new(label, range, width, height).unwrap();
+            let footprint = legend.footprint(width, height);
+            // On noise no blend leaves a pixel as it was by chance.
+            let before = crate::render::pixel_rect::noise(width, height, seed as u32);
+            let mut after = before.clone();
+            legend.draw(&mut after);
+            let mut changed = 0;
+            for (x, y, pixel) in after.enumerate_pixels() {
+                if pixel != before.get_pixel(x, y) {
+                    changed += 1;
+                    let inside = (footprint.x..footprint.x + footprint.width).contains(&x)
+                        && (footprint.y..footprint.y + footprint.height).contains(&y);
+                    assert!(inside, "{label}: ({x}, {y}) outside {footprint:?}");
+                }
+            }
+            // Most of the footprint is drawn on; it is a panel at the right.
+            let area = footprint.width * footprint.height;
+            assert!(2 * changed > area, "{label}: {changed} of {area}");
+            assert!(footprint.x > width / 2, "{label}: {footprint:?}");
+        }
         let legend = Legend::new("value", [0.0, 1.0], 640, 360).unwrap();
+        let mut image = RgbaImage::from_pixel(640, 360, image::Rgba([10, 10, 10, 255]));
         legend.draw(&mut image);
-        assert_eq!(image.get_pixel(5, 5).0, [10, 10, 10, 255]);
         let bar_mid = image.get_pixel(
             (legend.bar.x + legend.bar.w / 2.0) as u32,
             (legend.bar.y + legend.bar.h / 2.0) as u32,

@@ -1,57 +1,83 @@
 //! [`Look`]: how every frame of a run appears, fixed when the run starts —
-//! camera, colours, ground, contact shadow, edges and legend.
+//! camera, colours, ground, contact shadow, edges, obstacles and legend —
+//! and where a frame can differ from the backdrop (its tile).
 //!
 //! - Colours: element scalars through viridis over one range for the whole
 //!   run (`colour_range`), NaN as a neutral grey, or one flat colour;
 //!   computed in sRGB and converted to linear for the shaders.
 //! - Ground: in 2D a dark surface line across the view over the hatched
 //!   half-plane below it; in 3D an anti-aliased checkered floor whose tile is
-//!   a round number near the body's size (`nice_tile`), fading into a soft
+//!   a round number near the bodies' size (`nice_tile`), fading into a soft
 //!   vertical background gradient far away.
-//! - Shadow: in 3D a soft contact shadow under the body that fades, widens
-//!   and blurs as the body rises (`contact_shadow`); it follows every frame.
+//! - Shadow: in 3D a soft contact shadow under the bodies that fades, widens
+//!   and blurs as they rise (`contact_shadow`); it follows every frame.
 //! - Edges: thin dark lines, faded out when the median edge is so short on
 //!   screen that lines would cover the colours (dense meshes, small images).
-//! - Legend: the colour bar with the field's label, drawn on the CPU once
-//!   and stamped onto the frames ([`LegendStamp`]).
+//! - Obstacles: one cool grey, apart from the colour map and from the NaN
+//!   grey; in 2D a translucent fill with a darker outline, in 3D lit like
+//!   the bodies with their edge lines.
+//! - Legend: the colour bar with the field's label, drawn on the CPU.
 //!
 //! Sizes scale with the image height (reference: 720 pixels).
 
 use super::camera::{self, Bounds, Framing, View};
 use super::colormap::{srgb_to_linear3, viridis};
-use super::gpu_resources::{Globals, LineInstance};
 use super::legend::Legend;
-use super::legend_stamp::LegendStamp;
-use super::pixel_rect::PixelRect;
+use super::pipelines::{Globals, LineInstance};
+use super::pixel_rect::{PixelRect, projected_rect};
 use super::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
 use image::RgbaImage;
-use nalgebra::{Vector3, Vector4};
+use nalgebra::{Matrix4, Vector3, Vector4};
 
 /// Colour of mesh edges, sRGB.
 const EDGE_SRGB: [f32; 3] = [0.08, 0.08, 0.10];
 /// Colour of elements whose value is NaN, sRGB.
 const NAN_SRGB: [f32; 3] = [0.55, 0.55, 0.55];
+/// The colour obstacles are drawn in, sRGB: a cool grey, apart from the
+/// colour map and from the grey of NaN values.
+pub const OBSTACLE_SRGB: [f32; 3] = [0.64, 0.67, 0.72];
+/// The opacity of a 2D obstacle's fill, blended in linear light.
+pub const OBSTACLE_FILL_OPACITY: f32 = 0.45;
+/// Colour of the 2D obstacles' outline, sRGB.
+const OBSTACLE_OUTLINE_SRGB: [f32; 3] = [0.25, 0.27, 0.31];
+/// Pixels around the bodies' vertices and edge lines' caps, and around the
+/// contact shadow's support, that a tile also holds: the 2D lines' coverage
+/// quads reach one pixel further (the fringes under one), the multisampled
+/// edge of the shadow's support and rounding.
+const TILE_MARGIN_PIXELS: f32 = 2.0;
 
 /// The fixed appearance of one run.
 #[derive(Clone)]
 pub(super) struct Look {
     colouring: Colouring,
     range: [f32; 2],
-    legend: Option<LegendStamp>,
+    legend: Option<Legend>,
+    size: (u32, u32),
     globals: Globals,
-    /// The 2D ground's line, drawn behind the body.
+    /// The 2D ground's line, drawn behind the bodies.
     ground_line: Option<LineInstance>,
     /// Colour (linear, with alpha) and width in pixels of the mesh edges;
     /// `None` when edges are off or faded out entirely.
     edges: Option<([f32; 4], f32)>,
-    /// The 3D ground's height, under which the contact shadow follows the body.
+    /// The same for the obstacles' edges.
+    obstacle_edges: Option<([f32; 4], f32)>,
+    /// The 3D ground's height, under which the contact shadow follows the bodies.
     shadow_ground: Option<f32>,
+}
+
+/// How many line instances of each kind [`Look::lines`] made, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct LineCounts {
+    pub ground: u32,
+    pub obstacles: u32,
+    pub bodies: u32,
 }
 
 impl Look {
     /// The look of a run of `frames` (checked, at least one) of `mesh`. The
-    /// automatic camera frames all of `frames` and the automatic colour range
-    /// spans all of them; everything else depends on the first frame only.
+    /// automatic camera frames all of `frames`, obstacles included, and the
+    /// automatic colour range spans all of them; everything else depends on
+    /// the first frame only.
     pub fn new(
         settings: &RenderSettings,
         mesh: &RenderMesh,
@@ -92,7 +118,9 @@ impl Look {
         )?;
 
         let pixel_scale = height as f32 / 720.0;
-        let first_bounds = Bounds::of_points(frames[0].positions.iter()).unwrap_or(bounds);
+        let first = &frames[0].positions;
+        let first_bodies = &first[..mesh.body_vertices(first.len())];
+        let first_bounds = Bounds::of_points(first_bodies).unwrap_or(bounds);
         let globals = base_globals(
             settings,
             dimension,
@@ -111,21 +139,31 @@ impl Look {
         // cover the colours (dense meshes, small images).
         let edge_px = median_edge_pixels(mesh, &frames[0], &view, width, height);
         let edge_alpha = edge_alpha * ((edge_px - 2.0) / 8.0).clamp(0.0, 1.0);
-        let edge_colour = {
-            let c = srgb_to_linear3(EDGE_SRGB);
-            [c[0], c[1], c[2], edge_alpha]
+        let with_alpha = |srgb: [f32; 3], alpha: f32| {
+            let c = srgb_to_linear3(srgb);
+            [c[0], c[1], c[2], alpha]
         };
-        let edges = (settings.draw_edges && edge_alpha > 0.0).then_some((edge_colour, edge_width));
+        let edges = (settings.draw_edges && edge_alpha > 0.0)
+            .then_some((with_alpha(EDGE_SRGB, edge_alpha), edge_width));
+        // A 2D obstacle's outline is its shape; a 3D one's edges are drawn
+        // like the bodies'.
+        let obstacle_edges = if dimension == 2 {
+            let width = (1.5 * pixel_scale).max(1.0);
+            Some((with_alpha(OBSTACLE_OUTLINE_SRGB, 0.9), width))
+        } else {
+            edges
+        };
         let shadow_ground = settings.ground_height.filter(|_| dimension == 3);
-        let legend = legend.map(|legend| LegendStamp::new(legend, width, height));
 
         Ok(Self {
             colouring: settings.colouring,
             range,
             legend,
+            size: (width, height),
             globals,
             ground_line,
             edges,
+            obstacle_edges,
             shadow_ground,
         })
     }
@@ -140,10 +178,9 @@ impl Look {
         &self.globals
     }
 
-    /// Line instances drawn behind the body (the 2D ground line): 0 or 1.
-    /// They come first in [`Look::lines`].
-    pub fn ground_lines(&self) -> u32 {
-        u32::from(self.ground_line.is_some())
+    /// The 2D ground's line, if drawn: the backdrop's only line.
+    pub fn ground_line(&self) -> Option<LineInstance> {
+        self.ground_line
     }
 
     /// The linear colour of each of `element_count` elements in `frame`.
@@ -167,22 +204,48 @@ impl Look {
         }
     }
 
-    /// The line segments of a frame: the ground line, then the mesh `edges`
-    /// between `positions` when they are drawn.
-    pub fn lines(&self, edges: &[[u32; 2]], positions: &[[f32; 3]], lines: &mut Vec<LineInstance>) {
+    /// The obstacles' colour (linear, with the 2D fill's opacity).
+    pub fn obstacle_colour(&self) -> [f32; 4] {
+        let [r, g, b] = srgb_to_linear3(OBSTACLE_SRGB);
+        // 3D surfaces are lit and opaque; the 2D fill is neither.
+        let lit = self.globals.light[3] > 0.0;
+        let alpha = if lit { 1.0 } else { OBSTACLE_FILL_OPACITY };
+        [r, g, b, alpha]
+    }
+
+    /// The line segments of a frame at `positions`: the ground line, then
+    /// the obstacles' edges and the bodies' edges, each when drawn.
+    pub fn lines(
+        &self,
+        mesh: &RenderMesh,
+        positions: &[[f32; 3]],
+        lines: &mut Vec<LineInstance>,
+    ) -> LineCounts {
         lines.clear();
         lines.extend(self.ground_line);
-        if let Some((colour, width)) = self.edges {
+        let ground = lines.len();
+        let mut segments = |edges: &[[u32; 2]], style: Option<([f32; 4], f32)>| {
+            let Some((colour, width)) = style else {
+                return 0;
+            };
             lines.extend(edges.iter().map(|&[a, b]| LineInstance {
                 start: positions[a as usize],
                 end: positions[b as usize],
                 colour,
                 width,
             }));
+            edges.len() as u32
+        };
+        let obstacles = segments(&mesh.obstacle_edges, self.obstacle_edges);
+        let bodies = segments(&mesh.edges, self.edges);
+        LineCounts {
+            ground: ground as u32,
+            obstacles,
+            bodies,
         }
     }
 
-    /// The colour a whole image's pass starts from: the top of the background.
+    /// The colour a pass starts from: the top of the background.
     pub fn clear_colour(&self) -> wgpu::Color {
         let sky = self.globals.sky_top;
         wgpu::Color {
@@ -199,13 +262,8 @@ impl Look {
         self.globals.sky_top != self.globals.sky_bottom
     }
 
-    /// The width in pixels of the mesh's edge lines (0 when none are drawn).
-    pub fn edge_width(&self) -> f32 {
-        self.edges.map_or(0.0, |(_, width)| width)
-    }
-
-    /// Moves the 3D contact shadow under the body at `positions`.
-    pub fn follow_body(&mut self, positions: &[[f32; 3]]) {
+    /// Moves the 3D contact shadow under the bodies at `positions`.
+    pub fn follow_bodies(&mut self, positions: &[[f32; 3]]) {
         if let (Some(ground), Some(bounds)) = (self.shadow_ground, Bounds::of_points(positions)) {
             let (shadow, params) = contact_shadow(&bounds, ground);
             self.globals.shadow = shadow;
@@ -213,14 +271,67 @@ impl Look {
         }
     }
 
+    /// The pixels a frame at `positions` (bodies and obstacles) can differ
+    /// from the backdrop in, from an even pixel: every vertex with the reach
+    /// of the edge lines (their square caps and the pixel the 2D coverage
+    /// quads add), and in 3D the contact shadow's support (see
+    /// [`Look::shadow_rect`]). `None` when nothing of it is in the image.
+    pub fn tile_rect(&self, positions: &[[f32; 3]]) -> Option<PixelRect> {
+        let (width, height) = self.size;
+        let widest = [
+            self.edges,
+            self.obstacle_edges,
+            self.ground_line.map(|l| (l.colour, l.width)),
+        ]
+        .into_iter()
+        .flatten()
+        .map(|(_, width)| width)
+        .fold(0.0, f32::max);
+        // A square cap reaches half the width along and across the line.
+        let reach = widest * std::f32::consts::FRAC_1_SQRT_2 + TILE_MARGIN_PIXELS;
+        let view_proj = Matrix4::from(self.globals.view_proj);
+        let points = positions.iter().copied();
+        let bodies = projected_rect(&view_proj, points, reach, width, height);
+        let rect = match (bodies, self.shadow_rect()) {
+            (Some(bodies), Some(shadow)) => bodies.union(&shadow),
+            (rect, None) | (None, rect) => rect?,
+        };
+        Some(rect.grown_to_even_pixel())
+    }
+
+    /// The pixels the 3D contact shadow can darken: the ground shader
+    /// darkens by `a (1 − smoothstep(1 − s, 1 + s, r))` with `r` the
+    /// rounded-rectangle distance `(q_x³ + q_z³)^(1/3)`, `q = |x − c| / ρ`
+    /// on the ground, which is exactly 0 where `q_x > 1 + s` or
+    /// `q_z > 1 + s`. The corners of `[c_x ± ρ_x (1 + s)] × [c_z ± ρ_z
+    /// (1 + s)]` on the ground plane, projected, bound it. `None` without a
+    /// shadow.
+    fn shadow_rect(&self) -> Option<PixelRect> {
+        let g = &self.globals;
+        let [strength, softness, ..] = g.shadow_params;
+        if self.shadow_ground.is_none() || strength <= 0.0 {
+            return None;
+        }
+        let [cx, cz, rx, rz] = g.shadow;
+        let reach = 1.0 + softness;
+        let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .map(|(sx, sz)| [cx + sx * rx * reach, g.ground[0], cz + sz * rz * reach]);
+        let view_proj = Matrix4::from(g.view_proj);
+        let (width, height) = self.size;
+        projected_rect(&view_proj, corners, TILE_MARGIN_PIXELS, width, height)
+    }
+
     /// The pixels [`Look::draw_overlay`] can change, if any.
     pub fn overlay_footprint(&self) -> Option<PixelRect> {
-        self.legend.as_ref().and_then(LegendStamp::footprint_rect)
+        let (width, height) = self.size;
+        self.legend
+            .as_ref()
+            .map(|legend| legend.footprint(width, height))
     }
 
     /// Draws what is drawn on the CPU over the rendered image: the legend.
-    pub fn draw_overlay(&mut self, image: &mut RgbaImage) {
-        if let Some(legend) = &mut self.legend {
+    pub fn draw_overlay(&self, image: &mut RgbaImage) {
+        if let Some(legend) = &self.legend {
             legend.draw(image);
         }
     }
@@ -435,6 +546,42 @@ mod tests {
         assert_eq!(nice_tile(0.87), 0.5);
         assert_eq!(nice_tile(0.3), 0.2);
         assert_eq!(nice_tile(9.0), 5.0);
+    }
+
+    #[test]
+    fn the_shadow_rect_bounds_the_support_of_the_shadow_on_the_ground() {
+        // Clip = world with y up and z ignored: pixel x = (x + 1) 50,
+        // y = (1 − y) 50 in a 100 x 100 image; the ground at y = −0.5 is
+        // pixel row 75.
+        let mut look = Look {
+            colouring: Colouring::Flat([0.5; 3]),
+            range: [0.0, 1.0],
+            legend: None,
+            size: (100, 100),
+            globals: Globals {
+                view_proj: Matrix4::<f32>::identity().into(),
+                ..bytemuck::Zeroable::zeroed()
+            },
+            ground_line: None,
+            edges: None,
+            obstacle_edges: None,
+            shadow_ground: Some(-0.5),
+        };
+        look.globals.ground[0] = -0.5;
+        look.globals.shadow = [0.2, 0.0, 0.2, 0.1];
+        look.globals.shadow_params = [0.4, 0.5, 0.0, 0.0];
+        // x in 0.2 ± 0.2 * 1.5 = [-0.1, 0.5]: pixels [45, 75], with the margin [43, 77].
+        let rect = look.shadow_rect().unwrap();
+        assert_eq!((rect.x, rect.x + rect.width), (43, 77));
+        assert_eq!((rect.y, rect.y + rect.height), (73, 77));
+        // The tile holds the bodies and the shadow, from an even pixel.
+        let tile = look.tile_rect(&[[-0.5, 0.5, 0.0]]).unwrap();
+        assert_eq!((tile.x, tile.y), (22, 22));
+        assert_eq!((tile.x + tile.width, tile.y + tile.height), (77, 77));
+        // No strength, no shadow.
+        look.globals.shadow_params[0] = 0.0;
+        assert_eq!(look.shadow_rect(), None);
+        assert_eq!(look.tile_rect(&[[5.0, 5.0, 0.0]]), None);
     }
 
     #[test]

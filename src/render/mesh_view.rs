@@ -4,7 +4,8 @@
 //! 2D: every triangle of the mesh, and every unique mesh edge.
 //! 3D: the outward-oriented boundary triangles of the tetrahedral mesh, each
 //! coloured by the tetrahedron it bounds, and the unique edges of those
-//! triangles.
+//! triangles. A simulation mesh has no obstacles; they are added to the
+//! view by whoever has them.
 
 use super::{RenderFrame, RenderMesh};
 use crate::math::Vector;
@@ -44,7 +45,52 @@ impl RenderMesh {
             triangle_element,
             edges: edges.into_iter().collect(),
             element_count: mesh.element_count(),
+            obstacle_triangles: Vec::new(),
+            obstacle_edges: Vec::new(),
         }
+    }
+
+    /// Adds an obstacle to the view: a surface of `facets` (edges in 2D,
+    /// triangles in 3D) and, in 2D, `fill` triangles over its points, whose
+    /// point `i` is the frame's vertex `first_vertex + i` (obstacles' points
+    /// follow the bodies' vertices). 2D: `fill` is shaded, `facets` are the
+    /// outline; 3D: `facets` are shaded and their unique edges drawn.
+    pub fn add_obstacle<const D: usize>(
+        &mut self,
+        first_vertex: usize,
+        facets: &[[usize; D]],
+        fill: &[[usize; 3]],
+    ) {
+        let at = |i: usize| (first_vertex + i) as u32;
+        match D {
+            2 => {
+                self.obstacle_triangles
+                    .extend(fill.iter().map(|t| t.map(at)));
+                self.obstacle_edges
+                    .extend(facets.iter().map(|f| [at(f[0]), at(f[1])]));
+            }
+            _ => {
+                let triangles: Vec<[u32; 3]> = facets
+                    .iter()
+                    .map(|f| [at(f[0]), at(f[1]), at(f[2])])
+                    .collect();
+                let edges: BTreeSet<[u32; 2]> = triangles
+                    .iter()
+                    .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+                    .map(|[a, b]| [a.min(b), a.max(b)])
+                    .collect();
+                self.obstacle_triangles.extend(triangles);
+                self.obstacle_edges.extend(edges);
+            }
+        }
+    }
+
+    /// How many of a frame's `vertex_count` positions are the bodies': those
+    /// before the first obstacle vertex.
+    pub(super) fn body_vertices(&self, vertex_count: usize) -> usize {
+        let obstacles = self.obstacle_triangles.iter().flatten();
+        let first = obstacles.chain(self.obstacle_edges.iter().flatten()).min();
+        first.map_or(vertex_count, |&v| (v as usize).min(vertex_count))
     }
 }
 
@@ -82,6 +128,35 @@ mod tests {
         // 2x1 cells: 7 grid edges + 2 diagonals.
         assert_eq!(view.edges.len(), 9);
         assert!(view.edges.iter().all(|e| e[0] < e[1]));
+    }
+
+    #[test]
+    fn obstacles_follow_the_bodies_vertices_with_their_own_triangles_and_edges() {
+        let mesh =
+            Mesh::<2>::axis_aligned_box(Vector2::zeros(), Vector2::new(1.0, 1.0), [1, 1]).unwrap();
+        let mut view = RenderMesh::from_mesh(&mesh);
+        // 2D: a quad outline of 4 facets, filled by 2 triangles, after 4 body vertices.
+        view.add_obstacle(
+            4,
+            &[[0, 1], [1, 2], [2, 3], [3, 0]],
+            &[[0, 1, 2], [0, 2, 3]],
+        );
+        assert_eq!(view.obstacle_triangles, vec![[4, 5, 6], [4, 6, 7]]);
+        assert_eq!(view.obstacle_edges, vec![[4, 5], [5, 6], [6, 7], [7, 4]]);
+        assert_eq!(view.body_vertices(8), 4);
+        // 3D: a tetrahedron's 4 faces shaded, its 6 edges drawn once each.
+        let mesh =
+            Mesh::<3>::axis_aligned_box(Vector3::zeros(), Vector3::repeat(1.0), [1, 1, 1]).unwrap();
+        let mut view = RenderMesh::from_mesh(&mesh);
+        let faces = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        view.add_obstacle(8, &faces, &[]);
+        assert_eq!(view.obstacle_triangles[0], [8, 10, 9]);
+        assert_eq!(view.obstacle_triangles.len(), 4);
+        assert_eq!(
+            view.obstacle_edges,
+            vec![[8, 9], [8, 10], [8, 11], [9, 10], [9, 11], [10, 11]]
+        );
+        assert_eq!(view.body_vertices(12), 8);
     }
 
     #[test]

@@ -1,24 +1,25 @@
-//! Off-screen wgpu rendering of mesh frames to images and video.
+//! Off-screen wgpu rendering of mesh frames to images.
 //!
 //! The renderer draws what it is given: vertex positions and one scalar per
-//! element, never materials or physics. A run goes
-//! [`RenderMesh`] + [`RenderFrame`]s → [`Renderer`] (one whole
-//! [`RgbaImage`](image::RgbaImage) per frame) → [`SequenceWriter`] (numbered
-//! PNG frames from a pool of workers, APNG / MP4 / GIF video, one thread
-//! each).
+//! element, never materials or physics. A run goes [`RenderMesh`] +
+//! [`RenderFrame`]s → [`Renderer`] → one whole [`RgbaImage`](image::RgbaImage)
+//! per frame, which the encoders (`crate::encode`) write as PNG frames and
+//! videos.
 //!
 //! The GPU is whatever wgpu finds, one device per process: a hardware
 //! adapter when present, otherwise a software one (on a GPU-less Linux
 //! machine, the GL backend over Mesa llvmpipe through EGL). `WGPU_BACKEND`
-//! (e.g. `gl`, `vulkan`) restricts the backends tried. Images are rendered
-//! into an sRGB target, with 4x MSAA in 3D and for the 2D backdrop. A frame
-//! draws only the tile around what changes over the run's fixed backdrop: in
-//! 2D the body (`body_tile`), with one sample per pixel and the
-//! anti-aliasing computed in its shaders (`body_coverage`); in 3D the body
-//! and its contact shadow, multisampled (`scene_tile`). So a software
-//! rasteriser does not clear, shade and resolve four samples of the whole
-//! image for every frame. The tile is pasted into the run's base image (the
-//! backdrop with the legend), and the encoders see whole images.
+//! (e.g. `gl`, `vulkan`) restricts the backends tried.
+//!
+//! One path draws 2D and 3D (`renderer`): the run's look is fixed when it
+//! starts (`look`: camera, colours, ground, shadow, edges, legend), the
+//! backdrop — the image without the bodies — is drawn once, and each frame
+//! draws only the tile around what changes (`frame_target`), in one pass of
+//! the layers of its dimension (`pipelines`): 4x MSAA with depth in 3D, one
+//! sample per pixel in 2D with the bodies anti-aliased in their shaders
+//! (`body_coverage`). Tiles are read back through a ring of staging
+//! buffers, so a frame is read while the next is drawn, and pasted into the
+//! backdrop with the legend.
 //!
 //! Colours: element scalars go through [`viridis`] over one range for the
 //! whole run (automatic: min/max over all frames), so colours never flicker;
@@ -26,48 +27,31 @@
 //! Either needs the whole run before the first frame is drawn
 //! ([`RenderSettings::needs_whole_run`]); with a fixed camera and a fixed
 //! range (or flat colour) frames are rendered and written as they are
-//! simulated.
+//! simulated. Obstacles are drawn in one neutral colour, in the camera's
+//! view with the bodies.
 
 mod body_coverage;
-mod body_tile;
 mod camera;
 mod colormap;
-mod export;
 mod frame_shape;
-mod frame_yuv;
+mod frame_target;
 mod gpu;
-mod gpu_resources;
-mod image_file;
-mod image_video;
-mod layers;
 mod legend;
-mod legend_stamp;
 mod look;
 mod mesh_view;
-mod mp4_writer;
-mod partial_file;
+mod pipelines;
 mod pixel_rect;
 mod preparing;
-mod readback;
-mod render_targets;
 mod renderer;
-mod scene_tile;
-mod sequence;
 mod text;
-mod tile_slot;
-mod video;
-mod video_writer;
 
-pub use colormap::{linear_to_srgb, srgb_to_linear, viridis};
-pub use export::{check_video_support, frame_file_name, write_png};
+pub use colormap::{linear_to_srgb, linear_to_srgb8, srgb_to_linear, viridis};
+pub use frame_target::FRAMES_IN_FLIGHT;
 pub use gpu::{BACKEND_VARIABLE, adapter_description, backend_variable_problem, max_image_size};
-pub use image_video::write_image_video;
-pub use partial_file::{remove_partial_files, write_whole_file};
+pub use look::{OBSTACLE_FILL_OPACITY, OBSTACLE_SRGB};
 pub use preparing::PreparingRenderer;
 pub use renderer::{FrameTimings, PreparedRenderer, Renderer};
-pub use sequence::{FrameCost, SequenceWriter, render_sequence};
 pub use text::{FONT_BYTES, draw_text, text_width};
-pub use video::file_name as video_file_name;
 
 use std::path::PathBuf;
 
@@ -85,6 +69,13 @@ pub struct RenderMesh {
     pub edges: Vec<[u32; 2]>,
     /// Number of elements (length of every frame's `element_values`).
     pub element_count: usize,
+    /// Obstacles' surfaces (issue 32): indices into the same positions array, whose obstacle
+    /// vertices come after the bodies'. 2D: triangles filled semi-transparent, edges outlined;
+    /// 3D: triangles shaded in a flat colour (two-sided: obstacles may be open surfaces), edges
+    /// drawn like the bodies'.
+    pub obstacle_triangles: Vec<[u32; 3]>,
+    /// The obstacles' edges (see `obstacle_triangles`).
+    pub obstacle_edges: Vec<[u32; 2]>,
 }
 
 /// One frame of motion to draw.
@@ -186,30 +177,6 @@ impl Default for RenderSettings {
             draw_legend: true,
         }
     }
-}
-
-/// Video container to write besides the PNG frames.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum VideoFormat {
-    /// Animated PNG (`video.png`), always available.
-    Apng,
-    /// H.264 MP4 (`video.mp4`), encoded in the process (OpenH264).
-    Mp4,
-    /// Animated GIF (`video.gif`).
-    Gif,
-}
-
-/// Where a render run writes.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RenderOutputs {
-    /// Folder for frame_0000.png, ...
-    pub frames_dir: PathBuf,
-    /// Folder for the video files (`video.png`, `video.mp4`, `video.gif`).
-    pub video_dir: PathBuf,
-    /// Videos to write (empty: none).
-    pub videos: Vec<VideoFormat>,
-    /// Frames per second of the video.
-    pub fps: f64,
 }
 
 /// Errors of the renderer.

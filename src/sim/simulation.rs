@@ -103,6 +103,12 @@ impl<const D: usize> Simulation<D> {
         &self.positions[self.mesh.vertex_count()..]
     }
 
+    /// The positions of everything drawn: the bodies' vertices, then the
+    /// obstacles' (as [`Self::obstacle_positions`]).
+    pub fn drawn_positions(&self) -> &[Vector<D>] {
+        &self.positions
+    }
+
     /// The bodies' part of a per-vertex array (obstacles' vertices follow).
     fn of_bodies<'a, T>(&self, all: &'a [T]) -> &'a [T] {
         &all[..self.mesh.vertex_count()]

@@ -9,7 +9,8 @@ use super::contact_sheet::{MAX_COMPARISON_SIZE, MAX_SHEET_SIZE, TileGrid, read_f
 use super::run_record::{RunRecord, RunStatus};
 use super::sweep_table::{RowStatus, SweepDescription, SweepRow, write_csv, write_json};
 use super::{RunSpec, RunSummary, SweepError};
-use crate::render::{RenderError, VideoFormat, write_image_video};
+use crate::encode::{VideoFormat, write_image_video};
+use crate::render::RenderError;
 use image::RgbaImage;
 use std::path::{Path, PathBuf};
 

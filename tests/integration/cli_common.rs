@@ -86,8 +86,6 @@ pub const REQUIRED_COLUMNS: &[&str] = &[
     "boundary_error",
     "friction_dissipated",
     "projected_iterations",
-    "render_ms",
-    "encode_ms",
 ];
 
 /// A small valid 2D scene file text (falls onto a ground).

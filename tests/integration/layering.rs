@@ -20,7 +20,7 @@ const LAYERS: &[&[&str]] = &[
     &["solver"],
     &["integrator"],
     &["sim"],
-    &["output", "render", "compare", "study"],
+    &["output", "render", "encode", "compare", "study"],
     &["scene"],
     &["sweep"],
     &["app"],

@@ -79,6 +79,7 @@ mod regression_writes_outside_output_folder;
 mod render_errors;
 mod render_export;
 mod render_image;
+mod render_obstacles;
 mod render_pipeline;
 mod render_profile;
 mod render_streaming;

@@ -412,3 +412,41 @@ fn obstacle_surface_files_are_read_and_their_errors_named() {
         stderr(&o)
     );
 }
+
+/// Obstacles are in the frames (issue 32 item 2): the plate of
+/// `pushed_block` is drawn where it is, not left out, and the background
+/// beside it is untouched. 100 pixels per unit, scene (x, y) at pixel
+/// (80 + 100 x, 60 − 100 (y − 0.3)).
+#[test]
+fn an_obstacle_is_drawn_in_the_frames_where_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    let view = "\n[render]\nresolution = [160, 120]\nlegend = false\n\
+                [render.camera]\ncenter = [0.0, 0.3]\nheight = 1.2\n";
+    std::fs::write(dir.path().join("push.toml"), pushed_block(view)).unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "run",
+            "push.toml",
+            "--frames",
+            "1",
+            "--video",
+            "none",
+            "-o",
+            "out",
+        ],
+    );
+    assert_code(&o, 0);
+    let frame = image::open(dir.path().join("out/frames/frame_0000.png"))
+        .unwrap()
+        .to_rgb8();
+    let plate = frame.get_pixel(65, 60).0; // (-0.15, 0.3): the plate's middle
+    let background = frame.get_pixel(30, 60).0; // (-0.5, 0.3): nothing there
+    let body = frame.get_pixel(100, 60).0; // (0.2, 0.3): the block
+    let apart = |a: [u8; 3], b: [u8; 3]| (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap();
+    assert!(
+        apart(plate, background) >= 12,
+        "the plate {plate:?} stands out from the background {background:?}"
+    );
+    assert!(apart(plate, body) >= 12, "and is not the block {body:?}");
+}

@@ -2,7 +2,10 @@
 //! files behind (issue 9 item 12), and SIGHUP (a closed terminal, a dropped
 //! ssh session) killed the run without any clean-up (issue 33 item 18). Now
 //! each of them stops the encoders, removes every partial file, keeps the
-//! complete frames, and exits with 128 + the signal number.
+//! complete frames, and exits with 128 + the signal number. And SIGTERM
+//! while a run that renders afterwards (automatic camera) was simulating
+//! left a `stats.csv` with only its header, its rows waiting for the images
+//! (issue 33 item 17): rows are now written as the frames are simulated.
 #![cfg(unix)]
 
 use crate::render_support;
@@ -150,4 +153,73 @@ fn sigterm_removes_partial_files_and_exits_143() {
 #[test]
 fn sighup_removes_partial_files_and_exits_129() {
     interrupt_run(libc::SIGHUP, "SIGHUP");
+}
+
+#[test]
+fn sigterm_while_simulating_keeps_the_rows_of_the_frames_simulated() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    // The automatic camera: the frames are drawn after the simulation.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_elasto"))
+        .args([
+            "run",
+            "--frames",
+            "20000",
+            "--resolution",
+            "64x48",
+            "--video",
+            "none",
+        ])
+        .args(["--out", out.to_str().unwrap(), "--quiet"])
+        .env_remove("RUST_BACKTRACE")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stats = out.join("stats.csv");
+    let rows = || {
+        let text = std::fs::read_to_string(&stats).unwrap_or_default();
+        text.lines().count().saturating_sub(1)
+    };
+    let start = Instant::now();
+    while rows() < 20 {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no 20 rows after 60 s"
+        );
+        assert!(child.try_wait().unwrap().is_none(), "the run ended early");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let seen = rows();
+    // SAFETY: kill(2) has no memory-safety preconditions.
+    let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+    assert_eq!(sent, 0);
+    let (status, stderr) = wait_at_most(&mut child, Duration::from_secs(30));
+    assert_eq!(
+        status.code(),
+        Some(128 + libc::SIGTERM),
+        "{status:?}: {stderr}"
+    );
+
+    // Every frame simulated before the signal has its row, complete and in
+    // order; the run was stopped long before its end.
+    let text = std::fs::read_to_string(&stats).unwrap();
+    let mut lines = text.lines();
+    let columns = lines.next().unwrap().split(',').count();
+    let rows: Vec<&str> = lines.collect();
+    assert!(
+        rows.len() >= seen && rows.len() < 20_000,
+        "{} rows",
+        rows.len()
+    );
+    for (frame, row) in rows.iter().enumerate() {
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(cells.len(), columns, "row {frame}: {row}");
+        assert_eq!(cells[0], frame.to_string(), "rows in frame order");
+    }
+    assert!(text.ends_with('\n'), "the last row is whole");
+    // No image was drawn: the simulation had not finished.
+    let frames = out.join("frames");
+    assert!(!frames.exists() || std::fs::read_dir(&frames).unwrap().next().is_none());
 }

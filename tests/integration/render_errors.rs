@@ -3,11 +3,10 @@
 //! written whole; a writer dropped unfinished writes every frame pushed.
 
 use crate::render_support::no_adapter_allowed;
+use elasto::encode::{RenderOutputs, SequenceWriter, VideoFormat};
 use elasto::math::Vector;
 use elasto::mesh::Mesh;
-use elasto::render::{
-    Colouring, RenderFrame, RenderMesh, RenderOutputs, RenderSettings, SequenceWriter, VideoFormat,
-};
+use elasto::render::{Colouring, RenderFrame, RenderMesh, RenderSettings};
 use std::path::Path;
 
 fn outputs(dir: &Path) -> RenderOutputs {

@@ -4,7 +4,8 @@
 
 use crate::mp4_file::Mp4File;
 use crate::render_support::{no_adapter_allowed, plain_settings, square};
-use elasto::render::{RenderFrame, RenderOutputs, RenderSettings, VideoFormat, render_sequence};
+use elasto::encode::{RenderOutputs, VideoFormat, render_sequence};
+use elasto::render::{RenderFrame, RenderSettings};
 use image::AnimationDecoder;
 use std::path::Path;
 

@@ -1,8 +1,8 @@
-//! `elasto run --profile` and the rendering columns of `stats.csv`: the
-//! table names every phase with numbers that add up, `render_ms` and
-//! `encode_ms` are positive for every rendered frame (streamed or rendered
-//! after the simulation) and 0 without rendering; the run, and the rendering
-//! after the simulation, show the cores busy over them.
+//! `elasto run --profile`: the table names every phase, rendering included
+//! (streamed or rendered after the simulation), with numbers that add up;
+//! the run, and the rendering after the simulation, show the cores busy
+//! over them. `stats.csv` has one row per frame whether or not the run
+//! renders, and no rendering columns: its rows do not wait for the images.
 
 use crate::cli_common as common;
 use common::*;
@@ -56,7 +56,7 @@ fn run(dir: &std::path::Path, extra: &[&str]) -> std::process::Output {
 }
 
 #[test]
-fn profile_prints_every_phase_and_stats_carry_render_times() {
+fn profile_prints_every_phase_with_the_rendering_after_the_simulation() {
     let tmp = tempfile::tempdir().unwrap();
     // The automatic camera: rendered after the simulation, from kept frames.
     let o = run(tmp.path(), &["--profile", "--video", "apng", "--quiet"]);
@@ -79,7 +79,7 @@ fn profile_prints_every_phase_and_stats_carry_render_times() {
     for phase in [
         "draw",
         "readback",
-        "legend",
+        "paste + legend",
         "PNG encode + write",
         "video encode + write",
     ] {
@@ -98,24 +98,26 @@ fn profile_prints_every_phase_and_stats_carry_render_times() {
     let (frames, _) = span(&table, "frames drawn, encoded and written");
     assert!(frames <= rendering, "{table}");
 
-    let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
+    assert!(rendering_total > 0.0, "{table}");
+    assert_stats_rows(&tmp.path().join("r/stats.csv"));
+}
+
+/// `stats.csv` has one row per frame, in order, and no rendering columns.
+fn assert_stats_rows(path: &std::path::Path) {
+    let (header, rows) = read_csv(path);
     assert_eq!(rows.len(), 5);
-    let mut render_sum = 0.0;
-    for (i, r) in rows.iter().enumerate() {
-        assert_eq!(cell(&header, r, "frame"), i as f64, "rows in frame order");
-        let (render, encode) = (cell(&header, r, "render_ms"), cell(&header, r, "encode_ms"));
-        assert!(render > 0.0 && encode > 0.0, "frame {i}: {render} {encode}");
-        render_sum += render + encode;
-    }
-    // The columns and the table measure the same work (3 decimals in the CSV).
     assert!(
-        (render_sum / 1e3 - rendering_total).abs() < 0.01 + 0.01 * rendering_total,
-        "stats {render_sum} ms, table {rendering_total} s"
+        !header.iter().any(|c| c == "render_ms" || c == "encode_ms"),
+        "{header:?}"
     );
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r.len(), header.len(), "row {i}");
+        assert_eq!(cell(&header, r, "frame"), i as f64, "rows in frame order");
+    }
 }
 
 #[test]
-fn a_streamed_run_also_has_render_times_in_every_row() {
+fn a_streamed_run_profiles_its_rendering_too() {
     let tmp = tempfile::tempdir().unwrap();
     // A fixed camera and range: frames are rendered while simulating.
     let streamed = [
@@ -143,27 +145,23 @@ fn a_streamed_run_also_has_render_times_in_every_row() {
         !table.contains("rendering after") && !table.contains("frames drawn"),
         "nothing waits for the run: {table}"
     );
-    let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
-    assert_eq!(rows.len(), 5);
-    for (i, r) in rows.iter().enumerate() {
-        assert_eq!(cell(&header, r, "frame"), i as f64);
-        assert!(cell(&header, r, "render_ms") > 0.0, "frame {i}");
-        assert!(cell(&header, r, "encode_ms") > 0.0, "frame {i}");
+    for phase in ["draw", "PNG encode + write"] {
+        let [frames, median, _] = row(&table, phase)[..] else {
+            panic!("{phase}: {table}")
+        };
+        assert_eq!(frames, 5.0, "{table}");
+        assert!(median > 0.0, "{phase}: {table}");
     }
+    assert_stats_rows(&tmp.path().join("r/stats.csv"));
 }
 
 #[test]
-fn without_rendering_the_render_times_are_zero() {
+fn without_rendering_the_table_has_no_rendering_phases() {
     let tmp = tempfile::tempdir().unwrap();
     let o = run(tmp.path(), &["--no-render", "--profile", "--quiet"]);
     assert_code(&o, 0);
     let table = stdout(&o);
     assert_eq!(row(&table, "assembly")[0], 4.0);
     assert!(!table.contains("draw"), "{table}");
-    let (header, rows) = read_csv(&tmp.path().join("r/stats.csv"));
-    assert_eq!(rows.len(), 5);
-    for r in &rows {
-        assert_eq!(cell(&header, r, "render_ms"), 0.0);
-        assert_eq!(cell(&header, r, "encode_ms"), 0.0);
-    }
+    assert_stats_rows(&tmp.path().join("r/stats.csv"));
 }

@@ -5,12 +5,10 @@
 //! complete when the run stops early.
 
 use crate::render_support::{no_adapter_allowed, plain_settings, square};
+use elasto::encode::{RenderOutputs, SequenceWriter, VideoFormat, render_sequence};
 use elasto::math::Vector;
 use elasto::mesh::Mesh;
-use elasto::render::{
-    Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderOutputs, RenderSettings,
-    SequenceWriter, VideoFormat, render_sequence,
-};
+use elasto::render::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
 use std::path::Path;
 use std::time::{Duration, Instant};
 

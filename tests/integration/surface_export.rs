@@ -282,7 +282,7 @@ fn imported_meshes_have_closed_outward_surfaces_enclosing_their_volume() {
 #[test]
 fn surface_files_are_numbered_like_the_frames() {
     for (index, count) in [(0, 1), (42, 100), (9999, 10000), (7, 10001)] {
-        let frame = elasto::render::frame_file_name(index, count);
+        let frame = elasto::encode::frame_file_name(index, count);
         let surface = surface_file_name(index, count, SurfaceFormat::Obj);
         assert_eq!(
             surface,

@@ -47,6 +47,8 @@ pub fn square(x: f32, y: f32, size: f32) -> (RenderMesh, RenderFrame) {
         triangle_element: vec![0, 1],
         edges: vec![[0, 1], [1, 2], [2, 3], [0, 3], [0, 2]],
         element_count: 2,
+        obstacle_triangles: Vec::new(),
+        obstacle_edges: Vec::new(),
     };
     let frame = RenderFrame {
         positions: vec![

@@ -25,7 +25,6 @@
 use super::image_file::{png_encoder, png_error, push_rgb};
 use super::mp4_writer::Mp4Writer;
 use super::partial_file::PartialFile;
-use super::pixel_rect::PixelRect;
 use super::video_writer::{VideoSpec, VideoWriter, frame_delay};
 use super::{RenderError, VideoFormat};
 use image::RgbaImage;
@@ -94,9 +93,9 @@ impl ApngWriter {
     }
 }
 
-/// The smallest rectangle holding every pixel where `now` differs from
-/// `before` (one unchanged pixel when none does).
-fn changed_rect(before: &RgbaImage, now: &RgbaImage) -> PixelRect {
+/// The smallest rectangle `[x, y, width, height]` holding every pixel where
+/// `now` differs from `before` (one unchanged pixel when none does).
+fn changed_rect(before: &RgbaImage, now: &RgbaImage) -> [u32; 4] {
     let width = now.width() as usize;
     let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
     let rows = before.as_raw().chunks_exact(width * 4);
@@ -115,14 +114,9 @@ fn changed_rect(before: &RgbaImage, now: &RgbaImage) -> PixelRect {
         (x0, x1, y0, y1) = (x0.min(first), x1.max(last), y0.min(y), y);
     }
     if y0 == usize::MAX {
-        return PixelRect::new(0, 0, 1, 1);
+        return [0, 0, 1, 1];
     }
-    PixelRect::new(
-        x0 as u32,
-        y0 as u32,
-        (x1 - x0 + 1) as u32,
-        (y1 - y0 + 1) as u32,
-    )
+    [x0, y0, x1 - x0 + 1, y1 - y0 + 1].map(|v| v as u32)
 }
 
 impl VideoWriter for ApngWriter {
@@ -131,25 +125,23 @@ impl VideoWriter for ApngWriter {
     /// blend `Source`), so a small moving body costs a small frame.
     fn push(&mut self, frame: &Arc<RgbaImage>) -> Result<(), RenderError> {
         let encode_error = |e: png::EncodingError| png_error(&self.path, e);
-        let region = match &self.previous {
+        let [x, y, width, height] = match &self.previous {
             Some(previous) => changed_rect(previous, frame),
-            None => PixelRect::new(0, 0, frame.width(), frame.height()),
+            None => [0, 0, frame.width(), frame.height()],
         };
         // Back to the origin first, so that no intermediate rectangle leaves the image.
         self.writer.reset_frame_position().map_err(encode_error)?;
         self.writer
-            .set_frame_dimension(region.width, region.height)
+            .set_frame_dimension(width, height)
             .map_err(encode_error)?;
-        self.writer
-            .set_frame_position(region.x, region.y)
-            .map_err(encode_error)?;
+        self.writer.set_frame_position(x, y).map_err(encode_error)?;
         self.rgb.clear();
-        let columns = region.x as usize * 4..(region.x + region.width) as usize * 4;
+        let columns = x as usize * 4..(x + width) as usize * 4;
         for row in frame
             .as_raw()
             .chunks_exact(frame.width() as usize * 4)
-            .skip(region.y as usize)
-            .take(region.height as usize)
+            .skip(y as usize)
+            .take(height as usize)
         {
             push_rgb(&row[columns.clone()], &mut self.rgb);
         }
@@ -256,8 +248,20 @@ fn gif_error(path: &Path, error: gif::EncodingError) -> RenderError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::pixel_rect::{Patch, noise};
     use image::AnimationDecoder;
+
+    /// A deterministic opaque noise image (xorshift): no two neighbours
+    /// are alike by chance.
+    fn noise(width: u32, height: u32, seed: u32) -> RgbaImage {
+        let mut state = seed.wrapping_mul(2_654_435_761) | 1;
+        RgbaImage::from_fn(width, height, |_, _| {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            let [r, g, b, _] = state.to_le_bytes();
+            image::Rgba([r, g, b, 255])
+        })
+    }
 
     /// Writes `frames` as an APNG and returns the frames a player shows,
     /// with the size of each stored rectangle.
@@ -307,22 +311,25 @@ mod tests {
         let (width, height) = (40, 30);
         let base = noise(width, height, 1);
         let body = noise(width, height, 3);
-        let over = |rect: Option<PixelRect>| {
+        // The base with the body's pixels in `[x, y, width, height]`.
+        let over = |rect: Option<[u32; 4]>| {
             let mut image = base.clone();
-            if let Some(rect) = rect {
-                Patch::cut(&body, rect).paste_into(&mut image);
+            if let Some([x0, y0, w, h]) = rect {
+                for (x, y) in (x0..x0 + w).flat_map(|x| (y0..y0 + h).map(move |y| (x, y))) {
+                    image.put_pixel(x, y, *body.get_pixel(x, y));
+                }
             }
             image
         };
         let frames = [
-            over(Some(PixelRect::new(2, 3, 6, 5))),
+            over(Some([2, 3, 6, 5])),
             // Moved: the union of both places.
-            over(Some(PixelRect::new(5, 4, 6, 5))),
+            over(Some([5, 4, 6, 5])),
             // Left the image: the last place, back to the base.
             over(None),
             // Nothing changed: one pixel.
             over(None),
-            over(Some(PixelRect::new(30, 20, 10, 10))),
+            over(Some([30, 20, 10, 10])),
             // Everything changed: stored whole.
             noise(width, height, 4),
         ];

@@ -2,8 +2,9 @@
 //!
 //! A [`SequenceWriter`] is fed one [`RenderFrame`] at a time, as the
 //! simulation produces them or from a finished run. [`SequenceWriter::push`]
-//! draws the frame into a whole image ([`Renderer::render_timed`]) and hands
-//! it to:
+//! starts drawing the frame ([`Renderer::start`]) and hands the frame
+//! before it, read back meanwhile ([`Renderer::finish`]), as a whole image
+//! to:
 //! - a pool of PNG workers, through one bounded queue (so memory stays flat
 //!   however long the run), each encoding whole images with the `png` crate
 //!   (fast compression) and writing each frame under a hidden temporary
@@ -13,25 +14,24 @@
 //!
 //! A full queue makes `push` wait, so neither rendering nor the simulation
 //! feeding it can run ahead of the encoders by more than a few frames.
-//! Each frame's [`FrameCost`] (draw, readback, legend, PNG, videos) is
-//! handed out by [`SequenceWriter::take_costs`] once the frame is in the PNG
-//! file and in every video, in frame order. The first error stops the run:
-//! no frame after it is started. Videos are renamed to their final names
+//! The first error stops the run: no frame after it is started, and the
+//! frames before it are written. Videos are renamed to their final names
 //! only by [`SequenceWriter::finish`] after every frame and every video
-//! succeeded. A writer dropped unfinished (the simulation failed) writes the
-//! frames already pushed and removes its partial videos; the frames written
-//! stay, each one complete. On SIGINT or SIGTERM the binary removes partial
-//! frames and videos through [`remove_partial_files`](super::remove_partial_files).
+//! succeeded; it also hands out each frame's [`FrameCost`] (draw, readback,
+//! legend, PNG, videos). A writer dropped unfinished (the simulation
+//! failed) writes the frames already pushed and removes its partial
+//! videos; the frames written stay, each one complete. On SIGINT or SIGTERM
+//! the binary removes partial frames and videos through
+//! [`remove_partial_files`](super::remove_partial_files).
 
-use super::colormap::linear_to_srgb8;
 use super::export::{check_video_support, frame_file_name, write_png};
-use super::frame_shape::FrameShape;
 use super::partial_file::PartialFile;
 use super::video;
 use super::video_writer::{VideoSpec, VideoWriter};
-use super::{
-    FrameTimings, PreparedRenderer, RenderError, RenderFrame, RenderMesh, RenderOutputs,
-    RenderSettings, Renderer, VideoFormat,
+use super::{RenderError, RenderOutputs, VideoFormat};
+use crate::render::{
+    FRAMES_IN_FLIGHT, FrameTimings, PreparedRenderer, RenderFrame, RenderMesh, RenderSettings,
+    Renderer, linear_to_srgb8,
 };
 use crossbeam_channel::{Receiver, Sender, bounded, unbounded};
 use image::RgbaImage;
@@ -63,15 +63,16 @@ impl FrameCost {
     }
 }
 
-/// A frame as the encoders take it: its index and its whole image.
+/// A frame as the encoders take it: its whole image.
 type Image = Arc<RgbaImage>;
 
 /// Renders frames one at a time and writes them as PNG files and videos.
 pub struct SequenceWriter {
     renderer: Renderer,
     frame_count: usize,
-    /// Frames drawn and handed to the encoders.
+    /// Frames started, and handed to the encoders.
     pushed: usize,
+    drawn: usize,
     /// The PNG workers' queue, until the run is finished.
     png: Option<Sender<(usize, Image)>>,
     png_done: Receiver<Result<(usize, Duration), RenderError>>,
@@ -79,14 +80,10 @@ pub struct SequenceWriter {
     videos: Vec<VideoThread>,
     /// Frames (in order, one per video) each video thread has written, with the time it took.
     video_done: Receiver<(usize, Duration)>,
-    /// Which frames are written, and how many from the start in a row.
+    costs: Vec<FrameCost>,
+    /// Which frames' PNG files are written, and how many from the start in a row.
     written: Vec<bool>,
     written_in_order: usize,
-    /// Per frame: its cost so far, and how many videos have written it.
-    costs: Vec<FrameCost>,
-    videos_written: Vec<usize>,
-    /// Frames whose costs [`SequenceWriter::take_costs`] has handed out.
-    costs_taken: usize,
     /// The first error of an encoder, once reported, until `push` or
     /// `finish` returns it.
     error: Option<RenderError>,
@@ -105,7 +102,7 @@ impl SequenceWriter {
     /// Starts writing a run of `frame_count` frames to `outputs`.
     ///
     /// `known_frames` frame the camera and the colour range (see
-    /// [`super::Renderer::new`]). When [`RenderSettings::needs_whole_run`] is true
+    /// [`Renderer::new`]). When [`RenderSettings::needs_whole_run`] is true
     /// they must be the whole run; otherwise the first frame is enough, and
     /// the rest can be pushed as they are simulated.
     pub fn create(
@@ -117,7 +114,7 @@ impl SequenceWriter {
     ) -> Result<Self, RenderError> {
         check_request(settings, frame_count, known_frames, outputs)?;
         // Bad frames are reported before the device is opened.
-        FrameShape::of_run(settings, mesh, known_frames)?;
+        Renderer::check(settings, mesh, known_frames)?;
         let prepared = Renderer::prepare(settings, mesh)?;
         Self::create_prepared(prepared, frame_count, known_frames, outputs)
     }
@@ -192,38 +189,42 @@ impl SequenceWriter {
             renderer,
             frame_count,
             pushed: 0,
+            drawn: 0,
             png: Some(png),
             png_done,
             png_workers,
             videos,
             video_done,
+            costs: vec![FrameCost::default(); frame_count],
             written: vec![false; frame_count],
             written_in_order: 0,
-            costs: vec![FrameCost::default(); frame_count],
-            videos_written: vec![0; frame_count],
-            costs_taken: 0,
             error: None,
             failed: false,
         })
     }
 
-    /// Draws the next frame and hands it to the encoders (it is encoded and
-    /// written while later frames are pushed); waits while their queues are
-    /// full. Fails with the frame's own error, or the first error of any
-    /// PNG file or video reported so far.
+    /// Starts drawing the next frame and hands the one before it to the
+    /// encoders (they encode and write it while later frames are pushed);
+    /// waits while their queues are full. Fails with the frame's own error,
+    /// or the first error of any PNG file or video reported so far; the
+    /// frames before a failed one are written all the same.
     pub fn push(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
         let result = self.send(frame);
         if result.is_err() {
             self.failed = true;
+            while self.renderer.frames_in_flight() > 0 && self.hand_out().is_ok() {}
+            self.close_png_queue();
         }
         result
     }
 
     fn send(&mut self, frame: &RenderFrame) -> Result<(), RenderError> {
-        // The first error an encoder reported (kept by `take_costs` between
-        // pushes) is the one the run stops with, with its file and cause;
-        // only later pushes get the generic refusal.
-        self.take_reports();
+        // The first error an encoder reported is the one the run stops
+        // with, with its file and cause; only later pushes get the generic
+        // refusal.
+        while let Ok(done) = self.png_done.try_recv() {
+            self.record(done);
+        }
         if let Some(error) = self.error.take() {
             return Err(error);
         }
@@ -239,13 +240,26 @@ impl SequenceWriter {
             )));
         }
         let index = self.pushed;
-        let (image, timings) =
-            self.renderer
-                .render_timed(frame)
-                .map_err(|error| RenderError::Frame {
-                    index,
-                    error: Box::new(error),
-                })?;
+        self.renderer
+            .start(frame)
+            .map_err(|error| frame_error(index, error))?;
+        self.pushed += 1;
+        if self.renderer.frames_in_flight() == FRAMES_IN_FLIGHT {
+            self.hand_out()?;
+        }
+        Ok(())
+    }
+
+    /// Reads the oldest frame in flight back and hands it to the encoders.
+    fn hand_out(&mut self) -> Result<(), RenderError> {
+        let index = self.drawn;
+        let Some((image, timings)) = self
+            .renderer
+            .finish()
+            .map_err(|error| frame_error(index, error))?
+        else {
+            return Ok(());
+        };
         self.costs[index].timings = timings;
         let image = Arc::new(image);
         let sent = self.videos.iter().all(|video| video.send(image.clone()))
@@ -256,15 +270,21 @@ impl SequenceWriter {
         if !sent {
             return Err(self.encoder_error());
         }
-        self.pushed += 1;
+        self.drawn += 1;
         Ok(())
     }
 
-    /// Records what the PNG workers have reported.
-    fn take_reports(&mut self) {
+    /// How many frames, from frame 0 on, are drawn and handed to the encoders.
+    pub fn frames_drawn(&self) -> usize {
+        self.drawn
+    }
+
+    /// How many frames, from frame 0 on without a gap, are written to disk.
+    pub fn frames_written(&mut self) -> usize {
         while let Ok(done) = self.png_done.try_recv() {
             self.record(done);
         }
+        self.written_in_order
     }
 
     /// Keeps the first error; the run can no longer complete.
@@ -273,49 +293,23 @@ impl SequenceWriter {
         self.error.get_or_insert(error);
     }
 
-    /// How many frames, from frame 0 on without a gap, are written to disk.
-    pub fn frames_written(&self) -> usize {
-        self.written_in_order
-    }
-
-    /// The costs of the frames completely written (PNG and every video)
-    /// since the last call, in frame order, without gaps: frame `k` is
-    /// handed out only after frames `0..k`.
-    pub fn take_costs(&mut self) -> Vec<FrameCost> {
-        // An error is kept and reported by the next push or by finish.
-        self.take_reports();
-        self.collect_costs()
-    }
-
-    fn collect_costs(&mut self) -> Vec<FrameCost> {
-        while let Ok((index, time)) = self.video_done.try_recv() {
-            self.costs[index].video += time;
-            self.videos_written[index] += 1;
-        }
-        let start = self.costs_taken;
-        while self.costs_taken < self.written_in_order
-            && self.videos_written[self.costs_taken] == self.videos.len()
-        {
-            self.costs_taken += 1;
-        }
-        self.costs[start..self.costs_taken].to_vec()
-    }
-
     /// Waits for every queued frame and video, then gives the videos their
     /// final names. Fails if fewer frames were pushed than the run has.
     pub fn finish(self) -> Result<(), RenderError> {
         self.finish_with_costs().map(|_| ())
     }
 
-    /// [`SequenceWriter::finish`], also handing out the costs of the frames
-    /// [`SequenceWriter::take_costs`] has not.
+    /// [`SequenceWriter::finish`], also handing out the cost of every frame,
+    /// in frame order.
     pub fn finish_with_costs(mut self) -> Result<Vec<FrameCost>, RenderError> {
-        // The encoders finish the frames queued.
-        self.png = None;
-        for done in self.png_done.clone().iter() {
-            self.record(done);
+        while self.renderer.frames_in_flight() > 0 {
+            if let Err(error) = self.hand_out() {
+                self.fail(error);
+                break;
+            }
         }
-        join_all(std::mem::take(&mut self.png_workers));
+        // The encoders finish the frames queued.
+        self.close_png_queue();
         let video_errors: Vec<RenderError> = self
             .videos
             .iter_mut()
@@ -323,6 +317,9 @@ impl SequenceWriter {
             .collect();
         for error in video_errors {
             self.fail(error);
+        }
+        while let Ok((index, time)) = self.video_done.try_recv() {
+            self.costs[index].video += time;
         }
         let mut first_error = self.error.take();
         if first_error.is_none() && self.failed {
@@ -339,22 +336,33 @@ impl SequenceWriter {
         if let Some(error) = first_error {
             return Err(error);
         }
-        let costs = self.collect_costs();
         for video in std::mem::take(&mut self.videos) {
             video.publish()?;
         }
-        Ok(costs)
+        Ok(std::mem::take(&mut self.costs))
     }
 
-    /// Marks frame `done` written, or keeps its error.
+    /// Closes the PNG workers' queue and waits for them to write what it
+    /// holds.
+    fn close_png_queue(&mut self) {
+        self.png = None;
+        for done in self.png_done.clone().iter() {
+            self.record(done);
+        }
+        for worker in std::mem::take(&mut self.png_workers) {
+            if let Err(panic) = worker.join() {
+                std::panic::resume_unwind(panic);
+            }
+        }
+    }
+
+    /// Notes the time of frame `done`'s PNG file, or keeps its error.
     fn record(&mut self, done: Result<(usize, Duration), RenderError>) {
         match done {
             Ok((index, time)) => {
-                self.written[index] = true;
                 self.costs[index].png = time;
-                while self.written_in_order < self.frame_count
-                    && self.written[self.written_in_order]
-                {
+                self.written[index] = true;
+                while self.written.get(self.written_in_order) == Some(&true) {
                     self.written_in_order += 1;
                 }
             }
@@ -380,6 +388,14 @@ impl SequenceWriter {
             during: "writing frames",
             message: "an output thread stopped without an error".into(),
         }
+    }
+}
+
+/// The error of frame `index`.
+fn frame_error(index: usize, error: RenderError) -> RenderError {
+    RenderError::Frame {
+        index,
+        error: Box::new(error),
     }
 }
 
@@ -414,6 +430,7 @@ impl Drop for SequenceWriter {
     /// An unfinished run: the frames pushed are written, then partial
     /// videos are removed.
     fn drop(&mut self) {
+        while self.renderer.frames_in_flight() > 0 && self.hand_out().is_ok() {}
         self.png = None;
         for worker in std::mem::take(&mut self.png_workers) {
             let _ = worker.join();
@@ -480,14 +497,6 @@ impl Drop for VideoThread {
             let _ = thread.join();
         }
         self.partial = None;
-    }
-}
-
-fn join_all(threads: Vec<JoinHandle<()>>) {
-    for thread in threads {
-        if let Err(panic) = thread.join() {
-            std::panic::resume_unwind(panic);
-        }
     }
 }
 
