@@ -18,6 +18,7 @@
 //! gravity term at all, and likewise for the ground and pinned vertices.
 
 mod folder_name;
+mod mesh_config;
 mod raw_scene;
 mod scene_config;
 mod scene_document;
