@@ -5,8 +5,13 @@
 //!
 //! Per run:
 //! - exit 0, and every saved frame is intersection-free by the independent
-//!   check of `support/intersection.rs` (crossings and containment);
-//! - the bodies met: the sparse pattern grew for contact pairs (`reanalyses`);
+//!   check of `support/intersection.rs` (crossings and containment), the
+//!   frame's obstacles (`obstacles_NNNN.obj`, or frame 0's when they hold
+//!   still) appended to its bodies: body–obstacle pairs count, obstacle–
+//!   obstacle pairs do not;
+//! - the bodies met: the sparse pattern grew for contact pairs (`reanalyses`)
+//!   or, as pairs with an obstacle add nothing to the pattern, some frame
+//!   ends with pairs within d̂ (`contact_pairs`);
 //! - every `stats.csv` value is finite (`min_distance` may be empty: no pair
 //!   within d̂ at that frame's end), and `min_distance` > 0 where given;
 //! - `min_volume_ratio` (J) > 0 and `min_height` > 0 on every frame;
@@ -16,6 +21,10 @@
 //!   [`KNOWN_LIMITS`], which must still fall short and say so in the health
 //!   summary: a known limit that starts passing fails its test, so the list
 //!   only shrinks. The checks above hold for the known limits too.
+//!
+//! The squeezes (`contact-squeeze-2d`, `-3d`: a plate obstacle pressing a box
+//! onto the ground) also end with the body at most 20% of its starting
+//! height, measured on the saved surfaces.
 //!
 //! `contact-sheet-fold-3d` also has a negative control: with
 //! `effects.contact.self = false` (Neo-Hookean) the sheet passes through
