@@ -14,7 +14,8 @@ fn column(dir: &Path, name: &str) -> Vec<f64> {
 #[test]
 fn stvk_thrown_at_500_onto_a_box_converges_and_keeps_a_tenth_of_its_volume() {
     let tmp = tempfile::tempdir().unwrap();
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard/contact-impact-500-2d.toml");
+    let scene =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/hard/contact-impact-500-2d.toml");
     // Both bodies' models (`--set material.model` does not reach [[bodies]]).
     let text = std::fs::read_to_string(scene)
         .unwrap()
