@@ -68,6 +68,7 @@ mod regression_rayon_threads_unchecked;
 mod regression_silent_bad_results;
 mod regression_solver_failure_spoke_debug;
 mod regression_stdout_write_panicked;
+mod regression_stvk_barrier_too_soft_for_impacts;
 mod regression_stvk_folded_inside_out;
 mod regression_sweep_collect_wrote_runs_that_never_ran;
 mod regression_sweep_flag_replaced_a_varied_key;
