@@ -353,8 +353,9 @@ fn the_contact_scenes_stay_intersection_free_on_every_frame() {
     let dir = tempfile::tempdir().unwrap();
     // The 3D scenes are cut short to their first contacts (the whole runs
     // take tens of seconds in the test build).
-    let runs: [(&str, &[&str]); 4] = [
+    let runs: [(&str, &[&str]); 5] = [
         ("contact/squares-2d.toml", &[]),
+        ("contact/self-friction-2d.toml", &[]),
         ("contact/ring-fold-2d.toml", &[]),
         ("two-bodies.toml", &["--frames", "14"]),
         ("contact/box-stack-3d.toml", &["--frames", "8"]),

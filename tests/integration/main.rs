@@ -91,3 +91,4 @@ mod scene_validation;
 mod solver_options;
 mod stability;
 mod surface_export;
+mod tutorial_replica;
