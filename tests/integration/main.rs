@@ -22,7 +22,7 @@ mod mp4_file;
 mod render_support;
 
 mod analytic;
-mod cli_compare;
+mod compare;
 mod cli_errors;
 mod cli_mesh_files;
 mod cli_render;
@@ -30,7 +30,6 @@ mod cli_run;
 mod cli_scenes;
 mod cli_study;
 mod cli_sweep;
-mod compare_cli;
 mod compare_flip;
 mod contact;
 mod contact_hard_cases;
