@@ -140,7 +140,7 @@ mod regression_stdout_write_panicked {
     use crate::cli_common as common;
     use common::*;
     use std::path::Path;
-    use std::process::{Command, Output, Stdio};
+    use std::process::{Output, Stdio};
 
     /// Runs the real binary in `cwd` with its standard output on `/dev/full`.
     fn elasto_to_full_disk(cwd: &Path, args: &[&str]) -> Output {
@@ -148,7 +148,7 @@ mod regression_stdout_write_panicked {
             .write(true)
             .open("/dev/full")
             .expect("/dev/full opens");
-        Command::new(env!("CARGO_BIN_EXE_elasto"))
+        crate::cli_common::elasto_command()
             .args(args)
             .current_dir(cwd)
             .env_remove("RUST_BACKTRACE")
@@ -235,11 +235,11 @@ mod regression_rayon_threads_unchecked {
     use crate::cli_common as common;
     use common::*;
     use std::path::Path;
-    use std::process::{Command, Output};
+    use std::process::Output;
 
     /// Runs the real binary in `cwd` with `RAYON_NUM_THREADS` = `threads`.
     fn elasto_with_threads(cwd: &Path, threads: &str, args: &[&str]) -> Output {
-        Command::new(env!("CARGO_BIN_EXE_elasto"))
+        crate::cli_common::elasto_command()
             .args(args)
             .current_dir(cwd)
             .env_remove("RUST_BACKTRACE")
@@ -307,10 +307,10 @@ mod regression_unknown_graphics_backend_found_late {
     use crate::cli_common as common;
     use common::*;
     use std::path::Path;
-    use std::process::{Command, Output};
+    use std::process::Output;
 
     fn elasto_with_backend(cwd: &Path, backend: &str, args: &[&str]) -> Output {
-        Command::new(env!("CARGO_BIN_EXE_elasto"))
+        crate::cli_common::elasto_command()
             .args(args)
             .current_dir(cwd)
             .env_remove("RUST_BACKTRACE")

@@ -32,8 +32,7 @@ fn cube_scene(path: &str) -> String {
 }
 
 fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
-    let i = header.iter().position(|h| h == name).unwrap();
-    rows.iter().map(|r| r[i].parse().unwrap()).collect()
+    column_f64(header, rows, name)
 }
 
 #[test]

@@ -20,17 +20,9 @@ fn stats_without_timing(path: &Path) -> Vec<Vec<String>> {
 
 /// The rows of sweep.csv as maps from column to value.
 fn sweep_table(dir: &Path) -> Vec<std::collections::BTreeMap<String, String>> {
-    let mut reader = csv::Reader::from_path(dir.join("sweep.csv")).unwrap();
-    let header: Vec<String> = reader.headers().unwrap().iter().map(String::from).collect();
-    reader
-        .records()
-        .map(|r| {
-            header
-                .iter()
-                .cloned()
-                .zip(r.unwrap().iter().map(String::from))
-                .collect()
-        })
+    let (header, rows) = read_csv(&dir.join("sweep.csv"));
+    rows.into_iter()
+        .map(|r| header.iter().cloned().zip(r).collect())
         .collect()
 }
 
@@ -344,7 +336,7 @@ fn a_killed_sweep_resumes_skipping_completed_runs_and_refuses_changed_ones() {
         "1",
         "-q",
     ];
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_elasto"))
+    let mut child = crate::cli_common::elasto_command()
         .args(args)
         .current_dir(tmp.path())
         .spawn()
@@ -589,7 +581,7 @@ fn shards_run_as_separate_processes_and_collect_into_the_whole_sweep() {
 
     let shards: Vec<std::process::Child> = (0..4)
         .map(|i| {
-            std::process::Command::new(env!("CARGO_BIN_EXE_elasto"))
+            crate::cli_common::elasto_command()
                 .args(&args)
                 .args(["--out", "sharded", "--shard", &format!("{i}/4")])
                 .current_dir(tmp.path())

@@ -427,7 +427,7 @@ mod regression_force_removed_frames_it_never_wrote {
 mod regression_two_writers_mixed_one_folder {
     use crate::cli_common as common;
     use common::*;
-    use std::process::{Command, Stdio};
+    use std::process::Stdio;
     use std::time::{Duration, Instant};
 
     #[test]
@@ -436,7 +436,7 @@ mod regression_two_writers_mixed_one_folder {
         let dir = tmp.path();
         std::fs::write(dir.join("s.toml"), SMALL_SCENE).unwrap();
         // A long run, writing into `out`.
-        let mut first = Command::new(env!("CARGO_BIN_EXE_elasto"))
+        let mut first = crate::cli_common::elasto_command()
             .args([
                 "run",
                 "s.toml",

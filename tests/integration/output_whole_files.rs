@@ -21,7 +21,7 @@ mod regression_force_rerun_destroyed_the_earlier_run {
     use common::*;
     use std::collections::BTreeMap;
     use std::path::{Path, PathBuf};
-    use std::process::{Command, Stdio};
+    use std::process::Stdio;
     use std::time::{Duration, Instant};
 
     /// Every file under `dir` (hidden ones too), recursively, with its bytes.
@@ -136,7 +136,7 @@ mod regression_force_rerun_destroyed_the_earlier_run {
         if !render {
             args.push("--no-render");
         }
-        let mut child = Command::new(env!("CARGO_BIN_EXE_elasto"))
+        let mut child = crate::cli_common::elasto_command()
             .args(&args)
             .current_dir(tmp.path())
             .env_remove("RUST_BACKTRACE")
@@ -229,7 +229,7 @@ mod regression_force_rerun_destroyed_the_earlier_run {
         #[cfg(target_os = "linux")]
         {
             use std::os::unix::process::CommandExt;
-            let mut command = Command::new(env!("CARGO_BIN_EXE_elasto"));
+            let mut command = crate::cli_common::elasto_command();
             command
                 .args(["run", "s.toml", "--force", "-o", "o", "-q", "--frames", "5"])
                 .args(["--resolution", "640x480"])
@@ -302,11 +302,11 @@ mod regression_full_disk_left_cut_files {
     use common::*;
     use std::os::unix::process::CommandExt;
     use std::path::Path;
-    use std::process::{Command, Output};
+    use std::process::Output;
 
     /// Runs the real binary in `cwd`, where no file may grow past `max_bytes`.
     fn elasto_with_file_size_limit(cwd: &Path, max_bytes: u64, args: &[&str]) -> Output {
-        let mut command = Command::new(env!("CARGO_BIN_EXE_elasto"));
+        let mut command = crate::cli_common::elasto_command();
         command
             .args(args)
             .current_dir(cwd)

@@ -276,7 +276,7 @@ mod regression_interrupt_left_partial_video {
 
     use std::io::Read;
     use std::path::{Path, PathBuf};
-    use std::process::{Child, Command, ExitStatus, Stdio};
+    use std::process::{Child, ExitStatus, Stdio};
     use std::time::{Duration, Instant};
 
     /// Waits for `child`, killing it and failing the test after `limit`;
@@ -340,7 +340,7 @@ mod regression_interrupt_left_partial_video {
         }
         let tmp = tempfile::tempdir().unwrap();
         let out = tmp.path().join("out");
-        let mut child = Command::new(env!("CARGO_BIN_EXE_elasto"))
+        let mut child = crate::cli_common::elasto_command()
             .args([
                 "run",
                 "--frames",
@@ -424,7 +424,7 @@ mod regression_interrupt_left_partial_video {
         let tmp = tempfile::tempdir().unwrap();
         let out = tmp.path().join("out");
         // The automatic camera: the frames are drawn after the simulation.
-        let mut child = Command::new(env!("CARGO_BIN_EXE_elasto"))
+        let mut child = crate::cli_common::elasto_command()
             .args([
                 "run",
                 "--frames",
@@ -469,17 +469,14 @@ mod regression_interrupt_left_partial_video {
         // Every frame simulated before the signal has its row, complete and in
         // order; the run was stopped long before its end.
         let text = std::fs::read_to_string(&stats).unwrap();
-        let mut lines = text.lines();
-        let columns = lines.next().unwrap().split(',').count();
-        let rows: Vec<&str> = lines.collect();
+        let (header, rows) = crate::cli_common::read_csv(&stats);
         assert!(
             rows.len() >= seen && rows.len() < 20_000,
             "{} rows",
             rows.len()
         );
-        for (frame, row) in rows.iter().enumerate() {
-            let cells: Vec<&str> = row.split(',').collect();
-            assert_eq!(cells.len(), columns, "row {frame}: {row}");
+        for (frame, cells) in rows.iter().enumerate() {
+            assert_eq!(cells.len(), header.len(), "row {frame}: {cells:?}");
             assert_eq!(cells[0], frame.to_string(), "rows in frame order");
         }
         assert!(text.ends_with('\n'), "the last row is whole");

@@ -327,8 +327,7 @@ mod regression_tolerance_ignored_the_scene_size {
     }
 
     fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
-        let c = header.iter().position(|h| h == name).unwrap();
-        rows.iter().map(|r| r[c].parse().unwrap()).collect()
+        column_f64(header, rows, name)
     }
 
     /// The `tolerance = ...` value of a resolved scene.
