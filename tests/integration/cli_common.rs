@@ -186,3 +186,15 @@ pub fn elasto_within(cwd: &Path, args: &[&str], limit: std::time::Duration) -> O
         stderr: err_reader.join().unwrap(),
     }
 }
+
+/// Waits for an event the test is about to assert on (a file appearing, rows
+/// written, a process gone): checks `happened` every 10 ms and fails the test
+/// naming `what` when it has not happened after `limit`. Tests wait for
+/// what they look at, never for a fixed time.
+pub fn wait_until(what: &str, limit: std::time::Duration, mut happened: impl FnMut() -> bool) {
+    let start = std::time::Instant::now();
+    while !happened() {
+        assert!(start.elapsed() < limit, "{what}: not after {limit:?}");
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}

@@ -319,6 +319,29 @@ fn record_status(run_dir: &Path) -> Option<String> {
     value["status"].as_str().map(String::from)
 }
 
+/// Whether a process other than this one has `dir` (or a folder under it) as
+/// its working directory or names it on its command line: a sweep's run
+/// outliving the sweep. (Linux's /proc; elsewhere no process is seen.)
+fn a_process_works_in(dir: &Path) -> bool {
+    let Ok(entries) = std::fs::read_dir("/proc") else {
+        return false;
+    };
+    let me = std::process::id().to_string();
+    let needle = dir.to_string_lossy().into_owned();
+    entries.flatten().any(|entry| {
+        let pid = entry.file_name();
+        if pid.to_string_lossy() == me || !pid.to_string_lossy().bytes().all(|b| b.is_ascii_digit())
+        {
+            return false;
+        }
+        let proc_dir = entry.path();
+        let in_dir = std::fs::read_link(proc_dir.join("cwd")).is_ok_and(|cwd| cwd.starts_with(dir));
+        let names_it = std::fs::read(proc_dir.join("cmdline"))
+            .is_ok_and(|cmdline| String::from_utf8_lossy(&cmdline).contains(&needle));
+        in_dir || names_it
+    })
+}
+
 #[test]
 fn a_killed_sweep_resumes_skipping_completed_runs_and_refuses_changed_ones() {
     let tmp = tempfile::tempdir().unwrap();
@@ -344,18 +367,17 @@ fn a_killed_sweep_resumes_skipping_completed_runs_and_refuses_changed_ones() {
     let dir = tmp.path().join("resume");
     let first = dir.join("0000_material.young=100");
     let second = dir.join("0001_material.young=200");
-    let start = std::time::Instant::now();
-    while record_status(&first).as_deref() != Some("ok") {
-        assert!(
-            child.try_wait().unwrap().is_none(),
-            "the sweep ended before it was killed"
-        );
-        assert!(
-            start.elapsed().as_secs() < 120,
-            "the first run never completed"
-        );
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
+    wait_until(
+        "the first run completes",
+        std::time::Duration::from_secs(120),
+        || {
+            assert!(
+                child.try_wait().unwrap().is_none(),
+                "the sweep ended before it was killed"
+            );
+            record_status(&first).as_deref() == Some("ok")
+        },
+    );
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(
@@ -367,8 +389,15 @@ fn a_killed_sweep_resumes_skipping_completed_runs_and_refuses_changed_ones() {
         .unwrap()
         .modified()
         .unwrap();
-    // The second run was going: its record is not a completion marker.
-    std::thread::sleep(std::time::Duration::from_millis(300));
+    // The second run was going: its record is not a completion marker. The
+    // sweep writes the records and has exited; its run, sent SIGTERM when the
+    // sweep died, is waited for (not a fixed time) so that nothing still
+    // writes into the folder when it is checked and resumed.
+    wait_until(
+        "the killed sweep's run process exits",
+        std::time::Duration::from_secs(60),
+        || !a_process_works_in(tmp.path()),
+    );
     assert_ne!(record_status(&second).as_deref(), Some("ok"));
     // What a kill while a run folder is being made leaves: the hidden
     // staging folder with a half-written record, never a run folder

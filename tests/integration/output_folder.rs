@@ -428,7 +428,7 @@ mod regression_two_writers_mixed_one_folder {
     use crate::cli_common as common;
     use common::*;
     use std::process::Stdio;
-    use std::time::{Duration, Instant};
+    use std::time::Duration;
 
     #[test]
     fn a_second_writer_into_a_folder_in_use_is_refused_before_it_touches_anything() {
@@ -453,19 +453,16 @@ mod regression_two_writers_mixed_one_folder {
             .spawn()
             .unwrap();
         let stats = dir.join("out/stats.csv");
-        let start = Instant::now();
         let rows = || {
             std::fs::read_to_string(&stats)
                 .map(|t| t.lines().count())
                 .unwrap_or(0)
         };
-        while rows() < 3 {
-            assert!(
-                start.elapsed() < Duration::from_secs(60),
-                "the first run never wrote its rows"
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        wait_until(
+            "the first run writes its rows",
+            Duration::from_secs(60),
+            || rows() >= 3,
+        );
         let second = elasto(
             dir,
             &[

@@ -22,7 +22,7 @@ mod regression_force_rerun_destroyed_the_earlier_run {
     use std::collections::BTreeMap;
     use std::path::{Path, PathBuf};
     use std::process::Stdio;
-    use std::time::{Duration, Instant};
+    use std::time::Duration;
 
     /// Every file under `dir` (hidden ones too), recursively, with its bytes.
     fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
@@ -147,18 +147,13 @@ mod regression_force_rerun_destroyed_the_earlier_run {
             .unwrap();
         let out = tmp.path().join("o");
         let earlier_stats = &before[Path::new("stats.csv")];
-        let start = Instant::now();
-        while !rerun_has_started(&out, earlier_stats) {
+        crate::cli_common::wait_until("the re-run's first frame", Duration::from_secs(60), || {
             assert!(
                 child.try_wait().unwrap().is_none(),
                 "the re-run ended before it was interrupted"
             );
-            assert!(
-                start.elapsed() < Duration::from_secs(60),
-                "no frame after 60 s"
-            );
-            std::thread::sleep(Duration::from_millis(10));
-        }
+            rerun_has_started(&out, earlier_stats)
+        });
         // SAFETY: kill(2) has no memory-safety preconditions.
         assert_eq!(unsafe { libc::kill(child.id() as libc::pid_t, signal) }, 0);
         let output = child.wait_with_output().unwrap();

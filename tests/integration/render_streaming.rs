@@ -13,7 +13,7 @@ use elasto::math::Vector;
 use elasto::mesh::Mesh;
 use elasto::render::{Camera, Colouring, RenderError, RenderFrame, RenderMesh, RenderSettings};
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 fn outputs(dir: &Path, videos: Vec<VideoFormat>) -> RenderOutputs {
     RenderOutputs {
@@ -172,13 +172,10 @@ fn streamed_frames_reach_the_disk_before_the_run_ends() {
     }
     // The run is not over (5 frames to go), yet its first frames are files.
     let first = dir.path().join("frames/frame_0000.png");
-    let deadline = Instant::now() + Duration::from_secs(60);
-    while !first.exists() && Instant::now() < deadline {
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    assert!(
-        first.exists(),
-        "frame 0 was not written while the run went on"
+    crate::cli_common::wait_until(
+        "frame 0 is written while the run goes on",
+        Duration::from_secs(60),
+        || first.exists(),
     );
     assert!(image::open(&first).is_ok(), "frame 0 is a complete PNG");
     assert!(
@@ -301,18 +298,6 @@ mod regression_interrupt_left_partial_video {
         (status, stderr)
     }
 
-    /// Waits until `path` exists, for at most `limit`.
-    fn wait_for_file(path: &Path, limit: Duration) -> bool {
-        let start = Instant::now();
-        while start.elapsed() < limit {
-            if path.exists() {
-                return true;
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        false
-    }
-
     /// Every file under `dir`, recursively, relative to it.
     fn files_under(dir: &Path) -> Vec<PathBuf> {
         let mut files = Vec::new();
@@ -364,16 +349,14 @@ mod regression_interrupt_left_partial_video {
             .spawn()
             .unwrap();
         let first = out.join("frames/frame_0000.png");
-        assert!(
-            wait_for_file(&first, Duration::from_secs(60)),
-            "no frame after 60 s"
-        );
-        // The videos are being written under their hidden names.
-        let before = files_under(&out);
+        crate::cli_common::wait_until("frame 0", Duration::from_secs(60), || first.exists());
+        // The videos are being written under their hidden names (waited
+        // for: the video threads may open them after frame 0 is a file).
         for partial in [".video.png.partial", ".video.mp4.partial"] {
-            assert!(
-                before.iter().any(|f| f.ends_with(partial)),
-                "{partial} missing: {before:?}"
+            crate::cli_common::wait_until(
+                &format!("{partial} appears beside frame 0"),
+                Duration::from_secs(60),
+                || files_under(&out).iter().any(|f| f.ends_with(partial)),
             );
         }
 
@@ -446,15 +429,10 @@ mod regression_interrupt_left_partial_video {
             let text = std::fs::read_to_string(&stats).unwrap_or_default();
             text.lines().count().saturating_sub(1)
         };
-        let start = Instant::now();
-        while rows() < 20 {
-            assert!(
-                start.elapsed() < Duration::from_secs(60),
-                "no 20 rows after 60 s"
-            );
+        crate::cli_common::wait_until("20 rows of stats.csv", Duration::from_secs(60), || {
             assert!(child.try_wait().unwrap().is_none(), "the run ended early");
-            std::thread::sleep(Duration::from_millis(5));
-        }
+            rows() >= 20
+        });
         let seen = rows();
         // SAFETY: kill(2) has no memory-safety preconditions.
         let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
