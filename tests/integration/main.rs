@@ -66,3 +66,4 @@ mod solver_options;
 mod stability;
 mod surface_export;
 mod sweep_guards;
+mod sweep_processes;
