@@ -4,12 +4,20 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
+/// The real binary as a [`Command`], for the tests that spawn it themselves
+/// (signals, pipes, its environment): the one place that names it. A
+/// backtrace setting of the caller's does not leak into its messages.
+pub fn elasto_command() -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_elasto"));
+    command.env_remove("RUST_BACKTRACE");
+    command
+}
+
 /// Runs the real binary with `args` in `cwd`.
 pub fn elasto(cwd: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_elasto"))
+    elasto_command()
         .args(args)
         .current_dir(cwd)
-        .env_remove("RUST_BACKTRACE")
         .output()
         .expect("the elasto binary runs")
 }
@@ -35,20 +43,43 @@ pub fn assert_code(o: &Output, code: i32) {
     );
 }
 
-/// The CSV header and rows of a stats file.
+/// The header and rows of a CSV file elasto wrote (`stats.csv`,
+/// `sweep.csv`, `study.csv`), read by the `csv` crate (RFC 4180: a value
+/// such as `[8, 1]` is quoted). Rows keep their own lengths, so a test can
+/// see a cut row.
 pub fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header = lines
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_path(path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let mut records = reader.records().map(|record| {
+        let record = record.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        record.iter().map(str::to_owned).collect::<Vec<String>>()
+    });
+    let header = records
         .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_owned)
-        .collect();
-    let rows = lines
-        .map(|l| l.split(',').map(str::to_owned).collect())
-        .collect();
-    (header, rows)
+        .unwrap_or_else(|| panic!("{} is empty", path.display()));
+    (header, records.collect())
+}
+
+/// The position of column `name` in `header`.
+pub fn column_index(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+}
+
+/// Column `name` of `rows`, as numbers.
+pub fn column_f64(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
+    let c = column_index(header, name);
+    rows.iter()
+        .map(|r| {
+            r[c].parse()
+                .unwrap_or_else(|e| panic!("{name} = {:?}: {e}", r[c]))
+        })
+        .collect()
 }
 
 /// The column names stats.csv must start with, in order.
@@ -117,10 +148,9 @@ height = 0.0
 pub fn elasto_within(cwd: &Path, args: &[&str], limit: std::time::Duration) -> Output {
     use std::io::Read;
     use std::process::Stdio;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_elasto"))
+    let mut child = elasto_command()
         .args(args)
         .current_dir(cwd)
-        .env_remove("RUST_BACKTRACE")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -154,5 +184,17 @@ pub fn elasto_within(cwd: &Path, args: &[&str], limit: std::time::Duration) -> O
         status,
         stdout: out_reader.join().unwrap(),
         stderr: err_reader.join().unwrap(),
+    }
+}
+
+/// Waits for an event the test is about to assert on (a file appearing, rows
+/// written, a process gone): checks `happened` every 10 ms and fails the test
+/// naming `what` when it has not happened after `limit`. Tests wait for
+/// what they look at, never for a fixed time.
+pub fn wait_until(what: &str, limit: std::time::Duration, mut happened: impl FnMut() -> bool) {
+    let start = std::time::Instant::now();
+    while !happened() {
+        assert!(start.elapsed() < limit, "{what}: not after {limit:?}");
+        std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }

@@ -1,6 +1,9 @@
 //! Mesh files in scenes (`[mesh] generator = "file"`), `--save-surface` and
 //! several bodies (`[[bodies]]`), through the real binary, plus the bodies'
 //! masses and momentum through the library.
+//!
+//! Each `mod regression_*` here guards one fixed bug and is named after it
+//! (`cargo test --test integration regression_` selects them all).
 
 use crate::cli_common as common;
 use common::*;
@@ -29,8 +32,7 @@ fn cube_scene(path: &str) -> String {
 }
 
 fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
-    let i = header.iter().position(|h| h == name).unwrap();
-    rows.iter().map(|r| r[i].parse().unwrap()).collect()
+    column_f64(header, rows, name)
 }
 
 #[test]
@@ -500,4 +502,142 @@ fn positions_at_rest(first: &Mesh<2>, second: &Mesh<2>) -> Vec<Vector<2>> {
         .chain(second.rest_positions())
         .copied()
         .collect()
+}
+
+/// Issue 33, item 7: duplicated elements in a mesh file were accepted and
+/// doubled the mass and stiffness (every tetrahedron listed twice: gravity
+/// energy 2.0 instead of 1.0), and a repeated piece with vertices of its
+/// own became a second body overlapping the first. Now an element whose
+/// corners are at the same positions as an earlier one's (in any order) is
+/// dropped and counted in the import summary.
+mod regression_duplicate_elements_doubled_the_mass {
+    use crate::cli_common as common;
+    use common::*;
+
+    /// Two tetrahedra sharing a face as MEDIT text, with `extra` elements
+    /// appended; vertices 6-9 repeat the positions of vertices 1-4.
+    fn medit(extra: &[&str]) -> String {
+        let mut elements = vec!["1 2 3 4", "2 3 4 5"];
+        elements.extend(extra);
+        let mut text = String::from(
+            "MeshVersionFormatted 2\nDimension 3\nVertices\n9\n\
+         0 0 1 0\n1 0 1 0\n0 1 1 0\n0 0 2 0\n1 1 2 0\n\
+         0 0 1 0\n1 0 1 0\n0 1 1 0\n0 0 2 0\n",
+        );
+        text.push_str(&format!("Tetrahedra\n{}\n", elements.len()));
+        for e in elements {
+            text.push_str(&format!("{e} 0\n"));
+        }
+        text.push_str("End\n");
+        text
+    }
+
+    const SCENE: &str = r#"dimension = 3
+
+[mesh]
+generator = "file"
+path = "m.mesh"
+
+[material]
+model = "neo-hookean"
+young = 100.0
+poisson = 0.3
+density = 1.0
+
+[effects.gravity]
+acceleration = [0.0, -10.0, 0.0]
+"#;
+
+    /// `elasto check`'s output for the mesh text `mesh`.
+    fn check(dir: &std::path::Path, mesh: &str) -> String {
+        std::fs::write(dir.join("m.mesh"), mesh).unwrap();
+        std::fs::write(dir.join("s.toml"), SCENE).unwrap();
+        let o = elasto(dir, &["check", "s.toml"]);
+        assert_code(&o, 0);
+        stdout(&o)
+    }
+
+    fn energy_line(summary: &str) -> &str {
+        summary
+            .lines()
+            .find(|l| l.contains("energy at t = 0"))
+            .unwrap_or_else(|| panic!("{summary}"))
+    }
+
+    #[test]
+    fn duplicate_elements_are_dropped_and_counted() {
+        let tmp = tempfile::tempdir().unwrap();
+        let single = check(tmp.path(), &medit(&[]));
+        // The first listed again, again with its corners in another order (an
+        // inverted copy, re-oriented first), and as a copy with its own vertices.
+        let doubled = check(tmp.path(), &medit(&["1 2 3 4", "4 3 2 1", "6 7 8 9"]));
+        assert!(
+            doubled.contains("2 tetrahedra")
+                && doubled.contains(
+                    "dropped 3 duplicate tetrahedra (the same corners as an earlier one)"
+                )
+                && doubled.contains("dropped 4 unreferenced vertices"),
+            "{doubled}"
+        );
+        assert!(!single.contains("duplicate"), "{single}");
+        // The same mass: the same gravity energy.
+        assert_eq!(energy_line(&doubled), energy_line(&single));
+    }
+}
+
+/// Issue 33, item 8: an overflowing coordinate (a vertex at 1e308 in the
+/// file, `scale = 1e300`, `translate = [0, 1e39, 0]`) was reported as a
+/// "degenerate element (signed volume 2.083e-2)". Now the vertex and its
+/// coordinate are named, with the limit (the renderer's 32-bit floats) and,
+/// when the file itself is fine, the transforms that moved it there.
+mod regression_overflowing_coordinates_called_degenerate {
+    use crate::cli_common as common;
+    use common::*;
+
+    /// Two tetrahedra as MEDIT text, vertex 5 at `x`.
+    fn medit(x: &str) -> String {
+        format!(
+            "MeshVersionFormatted 2\nDimension 3\nVertices\n5\n\
+         0 0 1 0\n1 0 1 0\n0 1 1 0\n0 0 2 0\n{x} 1 2 0\n\
+         Tetrahedra\n2\n1 2 3 4 0\n2 3 4 5 0\nEnd\n"
+        )
+    }
+
+    fn scene(mesh_keys: &str) -> String {
+        format!(
+            "dimension = 3\n\n[mesh]\ngenerator = \"file\"\npath = \"m.mesh\"\n{mesh_keys}\n\
+         [material]\nmodel = \"neo-hookean\"\nyoung = 100.0\npoisson = 0.3\n"
+        )
+    }
+
+    #[test]
+    fn a_coordinate_beyond_the_renderers_range_is_named() {
+        let tmp = tempfile::tempdir().unwrap();
+        let cases = [
+            ("1e308", "", "vertex 5 lies at 1e308, beyond ±3.4e38"),
+            (
+                "1",
+                "scale = 1e300\n",
+                "lies at 1e300 after scale, rotate and translate",
+            ),
+            (
+                "1",
+                "translate = [0.0, 1e39, 0.0]\n",
+                "vertex 1 lies at 1e39 after scale, rotate and translate",
+            ),
+        ];
+        for (x, keys, expected) in cases {
+            std::fs::write(tmp.path().join("m.mesh"), medit(x)).unwrap();
+            std::fs::write(tmp.path().join("s.toml"), scene(keys)).unwrap();
+            let o = elasto(tmp.path(), &["check", "s.toml"]);
+            assert_code(&o, 2);
+            let err = stderr(&o);
+            assert!(
+                err.contains(expected)
+                    && err.contains("32-bit floats")
+                    && !err.contains("degenerate"),
+                "{x} {keys}: {err}"
+            );
+        }
+    }
 }

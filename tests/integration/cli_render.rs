@@ -42,7 +42,7 @@ fn auto_video_writes_apng_and_mp4_with_nothing_on_path() {
     let tmp = tempfile::tempdir().unwrap();
     let empty = tmp.path().join("empty-path");
     std::fs::create_dir(&empty).unwrap();
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_elasto"))
+    let o = crate::cli_common::elasto_command()
         .args([
             "run",
             "--frames",

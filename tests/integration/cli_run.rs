@@ -10,10 +10,7 @@ fn parse(cell: &str) -> f64 {
 }
 
 fn column<'a>(header: &[String], row: &'a [String], name: &str) -> &'a str {
-    &row[header
-        .iter()
-        .position(|h| h == name)
-        .unwrap_or_else(|| panic!("no column {name}"))]
+    &row[column_index(header, name)]
 }
 
 #[test]

@@ -35,33 +35,11 @@ max = [0.01, 1.0]
 /// The study's CSV: header and rows (RFC 4180 quoting: a value such as
 /// `[8, 1]` is quoted).
 fn study_csv(dir: &Path) -> (Vec<String>, Vec<Vec<String>>) {
-    let text = std::fs::read_to_string(dir.join("study.csv")).unwrap();
-    let mut lines = text.lines().map(|line| {
-        let (mut fields, mut field, mut quoted) = (Vec::new(), String::new(), false);
-        let mut chars = line.chars().peekable();
-        while let Some(c) = chars.next() {
-            match (c, quoted) {
-                ('"', true) if chars.peek() == Some(&'"') => {
-                    field.push('"');
-                    chars.next();
-                }
-                ('"', _) => quoted = !quoted,
-                (',', false) => fields.push(std::mem::take(&mut field)),
-                (c, _) => field.push(c),
-            }
-        }
-        fields.push(field);
-        fields
-    });
-    let header = lines.next().unwrap();
-    (header, lines.collect())
+    read_csv(&dir.join("study.csv"))
 }
 
 fn column(header: &[String], name: &str) -> usize {
-    header
-        .iter()
-        .position(|h| h == name)
-        .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+    column_index(header, name)
 }
 
 /// The order printed for a series, from stdout.

@@ -130,10 +130,7 @@ fn intersecting_frames(folder: &Path) -> Vec<(String, usize)> {
 }
 
 fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<String> {
-    let i = header
-        .iter()
-        .position(|h| h == name)
-        .unwrap_or_else(|| panic!("no column {name}"));
+    let i = column_index(header, name);
     rows.iter().map(|r| r[i].clone()).collect()
 }
 

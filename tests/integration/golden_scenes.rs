@@ -8,7 +8,6 @@
 //! `ELASTO_ALLOW_NO_GPU=1`, which makes them skip. See `golden/README.md`.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use elasto::compare::{
     CompareThresholds, FrameOutcome, compare_directories, compare_images, read_rgba,
@@ -100,7 +99,7 @@ fn adapter() -> Option<String> {
 /// Runs `elasto run SCENE` into `out` with `extra` arguments and returns the
 /// frames folder.
 fn run_scene(scene: &str, frames: u64, out: &Path, extra: &[&str]) -> PathBuf {
-    let output = Command::new(env!("CARGO_BIN_EXE_elasto"))
+    let output = crate::cli_common::elasto_command()
         .args([
             "run",
             scene,

@@ -37,7 +37,7 @@ fn span(table: &str, name: &str) -> (f64, f64) {
 }
 
 fn cell(header: &[String], row: &[String], name: &str) -> f64 {
-    let i = header.iter().position(|c| c == name).unwrap();
+    let i = column_index(header, name);
     row[i]
         .parse()
         .unwrap_or_else(|_| panic!("{name} = `{}`", row[i]))

@@ -6,11 +6,7 @@ use common::*;
 /// One column of a run's `stats.csv`, as numbers.
 fn column(dir: &std::path::Path, name: &str) -> Vec<f64> {
     let (header, rows) = read_csv(&dir.join("stats.csv"));
-    let c = header
-        .iter()
-        .position(|h| h == name)
-        .unwrap_or_else(|| panic!("no column {name}"));
-    rows.iter().map(|r| r[c].parse().unwrap()).collect()
+    column_f64(&header, &rows, name)
 }
 
 #[test]

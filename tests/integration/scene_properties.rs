@@ -17,7 +17,6 @@ use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Every key a scene can hold, a few tables, and a few that do not exist.
 const KEYS: &[&str] = &[
@@ -448,7 +447,7 @@ fn the_binary_exits_0_1_or_2_and_writes_only_its_output_folder() {
                         args.push("--force".into());
                     }
                 }
-                let output = Command::new(env!("CARGO_BIN_EXE_elasto"))
+                let output = crate::cli_common::elasto_command()
                     .args(&args)
                     .current_dir(&work)
                     .env_remove("RUST_BACKTRACE")

@@ -1,10 +1,85 @@
-//! `elasto compare` run as a binary on real PNG files: exit codes, the
-//! printed table and the difference images.
+//! `elasto compare` run as a binary on real PNG files: exit 0 when frames
+//! match, 1 when one differs or is missing, 2 on bad input; the printed
+//! table and the difference images.
 
+use crate::cli_common::*;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use image::{ImageFormat, Rgba, RgbaImage};
+
+/// A 64x48 grey image with a dark square at `x`.
+fn frame(path: &Path, x: u32) {
+    let img = image::RgbImage::from_fn(64, 48, |px, py| {
+        if (x..x + 16).contains(&px) && (16..32).contains(&py) {
+            image::Rgb([20, 20, 120])
+        } else {
+            image::Rgb([230; 3])
+        }
+    });
+    img.save(path).unwrap();
+}
+
+#[test]
+fn compare_passes_fails_and_rejects() {
+    let tmp = tempfile::tempdir().unwrap();
+    for dir in ["golden", "same", "moved"] {
+        std::fs::create_dir(tmp.path().join(dir)).unwrap();
+    }
+    for name in ["frame_0000.png", "frame_0001.png"] {
+        frame(&tmp.path().join("golden").join(name), 10);
+        frame(&tmp.path().join("same").join(name), 10);
+    }
+    frame(&tmp.path().join("moved/frame_0000.png"), 10);
+    frame(&tmp.path().join("moved/frame_0001.png"), 30);
+
+    let o = elasto(
+        tmp.path(),
+        &[
+            "compare", "--golden", "golden", "--frames", "same", "--diff", "d1",
+        ],
+    );
+    assert_code(&o, 0);
+    assert!(stdout(&o).contains("frame_0001.png"), "{}", stdout(&o));
+
+    let o = elasto(
+        tmp.path(),
+        &[
+            "compare", "--golden", "golden", "--frames", "moved", "--diff", "d2",
+        ],
+    );
+    assert_code(&o, 1);
+    assert!(
+        stderr(&o).contains("1 of 2 frames differ"),
+        "{}",
+        stderr(&o)
+    );
+
+    let o = elasto(
+        tmp.path(),
+        &["compare", "--golden", "nowhere", "--frames", "same"],
+    );
+    assert_code(&o, 2);
+    assert!(stderr(&o).contains("nowhere"), "{}", stderr(&o));
+    // The cause is printed once, not repeated by the error chain.
+    let err = stderr(&o);
+    let cause = err.rsplit(": ").next().unwrap().trim();
+    assert_eq!(err.matches(cause).count(), 1, "{err}");
+
+    let o = elasto(
+        tmp.path(),
+        &[
+            "compare",
+            "--golden",
+            "golden",
+            "--frames",
+            "same",
+            "--threshold-mean",
+            "2",
+        ],
+    );
+    assert_code(&o, 2);
+}
 
 /// A light frame with a dark-edged coloured box whose left edge is at `left`.
 fn box_frame(width: u32, height: u32, left: u32) -> RgbaImage {
@@ -45,27 +120,21 @@ fn folders() -> (tempfile::TempDir, PathBuf, PathBuf) {
 }
 
 fn compare(golden: &Path, frames: &Path, extra: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_elasto"))
-        .arg("compare")
-        .arg("--golden")
-        .arg(golden)
-        .arg("--frames")
-        .arg(frames)
-        .args(extra)
-        .output()
-        .expect("the elasto binary runs")
+    let mut args = vec![
+        "compare",
+        "--golden",
+        golden.to_str().unwrap(),
+        "--frames",
+        frames.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    elasto(golden.parent().unwrap(), &args)
 }
 
 /// Stdout and stderr, after checking the exit code (both shown if it is wrong).
 fn expect_exit(output: &Output, code: i32) -> (String, String) {
-    let stdout = String::from_utf8_lossy(&output.stdout).into_owned();
-    let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
-    assert_eq!(
-        output.status.code(),
-        Some(code),
-        "stdout:\n{stdout}\nstderr:\n{stderr}"
-    );
-    (stdout, stderr)
+    assert_code(output, code);
+    (stdout(output), stderr(output))
 }
 
 /// The table row of `name`.
