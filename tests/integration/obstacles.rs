@@ -450,3 +450,54 @@ fn an_obstacle_is_drawn_in_the_frames_where_it_is() {
     );
     assert!(apart(plate, body) >= 12, "and is not the block {body:?}");
 }
+
+/// Issue 32 item 5: a sweep over the contact's friction coefficient on a
+/// contact scene (the block on the ramp obstacle, whose own `friction` is
+/// left out, so the contact's applies) gives a contact sheet, and the runs
+/// differ as Coulomb's law says: after 0.5 s the sliding blocks are
+/// `½ g (sin θ − μ cos θ) t²` further down the slope than the block held
+/// by μ = 0.8 > tan θ.
+#[test]
+fn a_sweep_over_the_contact_friction_shows_the_difference() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = block_on_ramp(None) + "\n[render]\nresolution = [160, 120]\nlegend = false\n";
+    write_block(dir.path(), 2e-3);
+    std::fs::write(dir.path().join("ramp.toml"), scene).unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "sweep",
+            "ramp.toml",
+            "--vary",
+            "effects.contact.friction=0,0.2,0.4,0.8",
+            "--frames",
+            "16",
+            "-o",
+            "sweep",
+        ],
+    );
+    assert_code(&o, 0);
+    assert!(dir.path().join("sweep/contact_sheet.png").is_file());
+    let (header, rows) = read_csv(&dir.path().join("sweep/sweep.csv"));
+    let column = |c: &str| header.iter().position(|h| h == c).unwrap();
+    // Down the slope is (-cos θ, -sin θ).
+    let down: Vec<f64> = rows
+        .iter()
+        .map(|r| {
+            let (x, y): (f64, f64) = (
+                r[column("com_x")].parse().unwrap(),
+                r[column("com_y")].parse().unwrap(),
+            );
+            -(x * COS + y * SIN)
+        })
+        .collect();
+    assert_eq!(down.len(), 4);
+    for (mu, d) in [0.0, 0.2, 0.4].iter().zip(&down) {
+        let travel = d - down[3];
+        let expected = 0.5 * G * (SIN - mu * COS) * 0.25;
+        assert!(
+            (travel - expected).abs() < 0.05 * expected,
+            "μ = {mu}: {travel} further down than μ = 0.8, expected about {expected}"
+        );
+    }
+}
