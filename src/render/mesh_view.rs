@@ -34,16 +34,11 @@ impl RenderMesh {
                 .unzip(),
             _ => panic!("elasto renders 2D and 3D meshes, not {D}D ones"),
         };
-        let edges: BTreeSet<[u32; 2]> = triangles
-            .iter()
-            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
-            .map(|[a, b]| [a.min(b), a.max(b)])
-            .collect();
         RenderMesh {
             dimension: D,
+            edges: unique_edges(&triangles),
             triangles,
             triangle_element,
-            edges: edges.into_iter().collect(),
             element_count: mesh.element_count(),
             obstacle_triangles: Vec::new(),
             obstacle_edges: Vec::new(),
@@ -74,13 +69,8 @@ impl RenderMesh {
                     .iter()
                     .map(|f| [at(f[0]), at(f[1]), at(f[2])])
                     .collect();
-                let edges: BTreeSet<[u32; 2]> = triangles
-                    .iter()
-                    .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
-                    .map(|[a, b]| [a.min(b), a.max(b)])
-                    .collect();
+                self.obstacle_edges.extend(unique_edges(&triangles));
                 self.obstacle_triangles.extend(triangles);
-                self.obstacle_edges.extend(edges);
             }
         }
     }
@@ -92,6 +82,16 @@ impl RenderMesh {
         let first = obstacles.chain(self.obstacle_edges.iter().flatten()).min();
         first.map_or(vertex_count, |&v| (v as usize).min(vertex_count))
     }
+}
+
+/// The edges of `triangles`, each once, as `[low, high]` in ascending order.
+fn unique_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+    let edges: BTreeSet<[u32; 2]> = triangles
+        .iter()
+        .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+        .map(|[a, b]| [a.min(b), a.max(b)])
+        .collect();
+    edges.into_iter().collect()
 }
 
 impl RenderFrame {
