@@ -26,14 +26,11 @@
 //! place, as before: what it wrote before a failure or an interrupt stays.
 
 use super::OutputError;
-use super::output_dir::{FolderLock, OWNED_FILES, OWNED_FOLDERS, ours_inside};
+use super::folder_lock::FolderLock;
+use super::owned_names::{OWNED_FILES, OWNED_FOLDERS, STAGING_FOLDER, ours_inside};
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
-
-/// The hidden folder inside the output folder where a run that replaces an
-/// earlier one writes until it is complete.
-pub const STAGING_FOLDER: &str = ".elasto-rerun";
 
 /// The staging folders of the runs of this process that have not completed.
 static STAGED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());

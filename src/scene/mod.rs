@@ -23,6 +23,7 @@ mod raw_scene;
 mod scene_config;
 mod scene_document;
 mod scene_error;
+mod scene_loading;
 mod scene_override;
 mod scene_source;
 mod scene_validator;
