@@ -12,6 +12,7 @@
 //! accounts for the energy lost, and the keys are validated.
 
 use crate::cli_common::{assert_code, elasto, read_csv, stderr, stdout};
+use crate::support::fitted_parabola;
 use std::path::Path;
 
 const G: f64 = 9.81;
@@ -117,30 +118,8 @@ fn run(dir: &Path, name: &str, scene: &str) -> Frames {
 /// The least-squares parabola `x = c0 + c1 t + c2 t^2` through the frames
 /// at or after `from`: `(c1, 2 c2)` (velocity at t = 0 and acceleration).
 fn fitted_motion(frames: &Frames, from: f64) -> (f64, f64) {
-    let points: Vec<(f64, f64)> = frames
-        .time
-        .iter()
-        .zip(&frames.com_x)
-        .filter(|(t, _)| **t >= from)
-        .map(|(t, x)| (*t, *x))
-        .collect();
-    // Normal equations of the 3-parameter fit, solved by Cramer's rule.
-    let moment = |k: i32| points.iter().map(|(t, _)| t.powi(k)).sum::<f64>();
-    let weighted = |k: i32| points.iter().map(|(t, x)| x * t.powi(k)).sum::<f64>();
-    let a = nalgebra::Matrix3::new(
-        moment(0),
-        moment(1),
-        moment(2),
-        moment(1),
-        moment(2),
-        moment(3),
-        moment(2),
-        moment(3),
-        moment(4),
-    );
-    let b = nalgebra::Vector3::new(weighted(0), weighted(1), weighted(2));
-    let c = a.lu().solve(&b).expect("distinct times");
-    (c[1], 2.0 * c[2])
+    let [_, c1, c2] = fitted_parabola(&frames.time, &frames.com_x, from);
+    (c1, 2.0 * c2)
 }
 
 fn assert_acceleration(frames: &Frames, expected: f64, what: &str) {

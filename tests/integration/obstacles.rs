@@ -10,6 +10,7 @@
 //! no contact, is refused before any work, naming both.
 
 use crate::cli_common::{assert_code, elasto, read_csv, stderr};
+use crate::support::fitted_parabola;
 use std::path::Path;
 
 const G: f64 = 9.81;
@@ -119,27 +120,7 @@ fn run_along_slope(dir: &Path, name: &str, scene: &str) -> (Vec<f64>, Vec<f64>) 
 /// The acceleration of the least-squares parabola through the points at
 /// or after `from`.
 fn fitted_acceleration(time: &[f64], x: &[f64], from: f64) -> f64 {
-    let points: Vec<(f64, f64)> = time
-        .iter()
-        .zip(x)
-        .filter(|(t, _)| **t >= from)
-        .map(|(t, x)| (*t, *x))
-        .collect();
-    let moment = |k: i32| points.iter().map(|(t, _)| t.powi(k)).sum::<f64>();
-    let weighted = |k: i32| points.iter().map(|(t, x)| x * t.powi(k)).sum::<f64>();
-    let a = nalgebra::Matrix3::new(
-        moment(0),
-        moment(1),
-        moment(2),
-        moment(1),
-        moment(2),
-        moment(3),
-        moment(2),
-        moment(3),
-        moment(4),
-    );
-    let b = nalgebra::Vector3::new(weighted(0), weighted(1), weighted(2));
-    2.0 * a.lu().solve(&b).expect("distinct times")[2]
+    2.0 * fitted_parabola(time, x, from)[2]
 }
 
 #[test]

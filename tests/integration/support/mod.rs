@@ -145,3 +145,31 @@ pub fn max_relative_error(actual: &[f64], reference: &[f64]) -> f64 {
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
         / scale
 }
+
+/// The least-squares parabola `x = c0 + c1 t + c2 t^2` through the points
+/// `(time[i], x[i])` with `time[i] >= from`: `[c0, c1, c2]`.
+pub fn fitted_parabola(time: &[f64], x: &[f64], from: f64) -> [f64; 3] {
+    let points: Vec<(f64, f64)> = time
+        .iter()
+        .zip(x)
+        .filter(|(t, _)| **t >= from)
+        .map(|(t, x)| (*t, *x))
+        .collect();
+    // The normal equations of the 3-parameter fit.
+    let moment = |k: i32| points.iter().map(|(t, _)| t.powi(k)).sum::<f64>();
+    let weighted = |k: i32| points.iter().map(|(t, x)| x * t.powi(k)).sum::<f64>();
+    let a = nalgebra::Matrix3::new(
+        moment(0),
+        moment(1),
+        moment(2),
+        moment(1),
+        moment(2),
+        moment(3),
+        moment(2),
+        moment(3),
+        moment(4),
+    );
+    let b = nalgebra::Vector3::new(weighted(0), weighted(1), weighted(2));
+    let c = a.lu().solve(&b).expect("distinct times");
+    [c[0], c[1], c[2]]
+}
