@@ -1,13 +1,19 @@
 //! Candidate stencils: every pair of surface primitives close enough to matter, from the broad phase.
 //!
-//! At a state `x` (a Newton iterate) the candidates are the pairs whose
-//! bounding boxes come within `d_hat`; over a line-search segment
-//! `x -> x + dx` the boxes are swept (each primitive's box at both ends), so
-//! every pair that comes within `d_hat` anywhere on the segment is a
-//! candidate: the barrier's value at any trial point of the segment, and the
+//! At a state `x` (a Newton iterate) the candidates are the pairs that may
+//! be within `d_hat`; over a line-search segment `x -> x + dx` every pair
+//! that may come within `d_hat` anywhere on the segment is a candidate: the
+//! barrier's value at any trial point of the segment, and the
 //! collision-free step, need nothing else. Pairs that share a vertex are
 //! never candidates (a vertex against its own edge or triangle, edges with a
 //! common end), nor, with self-contact off, pairs within one body.
+//!
+//! A candidate passes two tests: its primitives' (swept) boxes, grown by
+//! `d_hat / 2` each, overlap (the broad phase's test), and a *certificate
+//! of distance* does not rule it out (see [`CandidateFinder`]): the list is
+//! every pair whose distance can be at most `d_hat` somewhere on the query,
+//! and no pair that provably stays farther on it (those add nothing to the
+//! barrier and cannot collide).
 //!
 //! The list is in a fixed order (point-edge or point-triangle stencils
 //! first, then edge-edge, each sorted by primitive index), so every sum over
@@ -33,19 +39,59 @@ use crate::math::Vector;
 /// point, so every pair the grid would report for the query is a cached
 /// pair. The query then only tests each cached pair's own boxes against
 /// each other, with the grid's inflation and comparison
-/// ([`Aabb::inflated`], [`Aabb::overlaps`]): the answer is exactly the
-/// grid's, in the same order, at the cost of the boxes and one test per
-/// cached pair. A vertex outside its cache box starts a new grid search
-/// around the query.
+/// ([`Aabb::inflated`], [`Aabb::overlaps`]). A vertex outside its cache box
+/// starts a new grid search around the query.
 ///
 /// The margin is the activation distance `d_hat`: Newton's later iterates
 /// and a body at rest move far less than that, so one search serves many
 /// queries, and the cached pairs are those within about `3 d_hat`.
+///
+/// # The certificate of distance
+///
+/// Boxes are a coarse test on the flat, axis-aligned surfaces meshes
+/// often have: a vertex's box touches those of the triangles one ring
+/// beyond its own, which are a whole element away. Such pairs would cost a
+/// distance at every iterate, every trial point of every line search and
+/// every CCD query while never coming near. So a search also measures each
+/// cached pair's distance `d_k` at the search's positions `a` (the
+/// *anchor*), and a query drops the pairs that provably stay farther than
+/// `d_hat`. With `delta_i = y_i - a_i` the displacement of vertex `i` at a
+/// point `y` of the query (for a segment, every vertex's `delta_i` is the
+/// same convex combination of its values at the two ends), `t_b` the mean
+/// of `delta` over body `b`'s surface vertices (per end) and
+///
+/// ```text
+/// u_i = max(|delta_i(x) - t_b(x)|, |delta_i(x + dx) - t_b(x + dx)|)      (i in body b)
+/// ```
+///
+/// every point of a primitive of body `b` moves by at most the largest
+/// `u` of its corners relative to the translation `t_b`, which leaves
+/// distances alone. Between a primitive `A` of body `a` and `B` of body
+/// `b`, anywhere on the query,
+///
+/// ```text
+/// distance >= d_k - max_{i in A} u_i - max_{j in B} u_j - [a != b] max(|t_a - t_b| at both ends)
+/// ```
+///
+/// and the pair is dropped when that bound exceeds `d_hat + e`, with `e` a
+/// margin for the rounding of the distances and displacements (`1e-9` of
+/// the coordinates' magnitude, and `d_k` read `1e-9` short). A body that
+/// falls, slides or deforms a little keeps every `u` far below an
+/// element's size; the test costs a few comparisons per cached pair per
+/// query, and O(1) per surface vertex.
 pub struct CandidateFinder<const D: usize> {
     broad_phase: BroadPhase<D>,
     vertex_boxes: Vec<Aabb<D>>,
     edge_boxes: Vec<Aabb<D>>,
     face_boxes: Vec<Aabb<D>>,
+    /// Per surface vertex, its displacement from its anchor at both ends
+    /// of the query (reused buffer).
+    displacements: Vec<[Vector<D>; 2]>,
+    /// Per body, the mean of its surface vertices' displacements `t_b` at
+    /// both ends, then their count (reused buffer).
+    body_shifts: Vec<([Vector<D>; 2], usize)>,
+    /// Per simulation vertex on the surface, `u_i` (reused buffer).
+    motion: Vec<f64>,
     cache: CandidateCache<D>,
     searches: usize,
 }
@@ -54,12 +100,19 @@ pub struct CandidateFinder<const D: usize> {
 struct CandidateCache<const D: usize> {
     /// Per surface vertex, the box it must stay in (empty: no cache).
     vertex_boxes: Vec<Aabb<D>>,
+    /// Per surface vertex, its position at the search (the anchor).
+    anchor: Vec<Vector<D>>,
     /// What the pairs were found for: `(activation, self_contact)`.
     key: Option<(f64, bool)>,
     /// 2D: (vertex, edge); 3D: (vertex, face).
     point_pairs: Vec<(u32, u32)>,
     /// 3D: (edge, edge).
     edge_pairs: Vec<(u32, u32)>,
+    /// Per point pair, `d_k - d_hat - e`: a query drops the pair when its
+    /// corners' motion bound is below it.
+    point_reach: Vec<f64>,
+    /// The same per edge pair.
+    edge_reach: Vec<f64>,
 }
 
 impl<const D: usize> Default for CandidateFinder<D> {
@@ -69,11 +122,17 @@ impl<const D: usize> Default for CandidateFinder<D> {
             vertex_boxes: Vec::new(),
             edge_boxes: Vec::new(),
             face_boxes: Vec::new(),
+            displacements: Vec::new(),
+            body_shifts: Vec::new(),
+            motion: Vec::new(),
             cache: CandidateCache {
                 vertex_boxes: Vec::new(),
+                anchor: Vec::new(),
                 key: None,
                 point_pairs: Vec::new(),
                 edge_pairs: Vec::new(),
+                point_reach: Vec::new(),
+                edge_reach: Vec::new(),
             },
             searches: 0,
         }
@@ -104,6 +163,18 @@ impl<const D: usize> CandidateFinder<D> {
         if !self.cache.covers(mesh, x, &end, (activation, self_contact)) {
             self.search(mesh, x, &end, activation, self_contact);
         }
+        self.measure_motion(mesh, x, &end);
+        let (motion, shifts) = (&self.motion, &self.body_shifts);
+        let largest = |corners: &[usize]| corners.iter().fold(0.0f64, |m, &v| m.max(motion[v]));
+        // The bound on how much closer a pair of bodies `a`, `b` can be
+        // than at the anchor, beyond their corners' own motion.
+        let apart = |a: usize, b: usize| {
+            if a == b {
+                return 0.0;
+            }
+            let ([a0, a1], [b0, b1]) = (shifts[a].0, shifts[b].0);
+            (a0 - b0).norm().max((a1 - b1).norm())
+        };
         let box_of = |corners: &[usize]| -> Aabb<D> {
             let mut b = Aabb::empty();
             for &v in corners {
@@ -114,46 +185,78 @@ impl<const D: usize> CandidateFinder<D> {
             }
             b
         };
-        fill_boxes(
-            &mut self.vertex_boxes,
-            &mut self.edge_boxes,
-            &mut self.face_boxes,
-            mesh,
-            box_of,
-        );
         let half = activation / 2.0;
-        let near = |a: &Aabb<D>, b: &Aabb<D>| a.inflated(half).overlaps(&b.inflated(half));
-        let (vertex_boxes, edge_boxes, face_boxes) =
-            (&self.vertex_boxes, &self.edge_boxes, &self.face_boxes);
-        if D == 2 {
-            stencils.extend(
-                self.cache
-                    .point_pairs
-                    .iter()
-                    .filter(|&&(s, e)| near(&vertex_boxes[s as usize], &edge_boxes[e as usize]))
-                    .map(|&(s, e)| point_edge(mesh, s, e)),
-            );
-            return;
+        let candidate = |stencil: &ContactStencil, bodies: (usize, usize), reach: f64| {
+            let corners = stencil.corners();
+            let split = if stencil.kind == StencilKind::EdgeEdge {
+                2
+            } else {
+                1
+            };
+            let (a, b) = (&corners[..split], &corners[split..]);
+            !(largest(a) + largest(b) + apart(bodies.0, bodies.1) < reach)
+                && box_of(a).inflated(half).overlaps(&box_of(b).inflated(half))
+        };
+        let cache = &self.cache;
+        for (&(s, p), &reach) in cache.point_pairs.iter().zip(&cache.point_reach) {
+            let (stencil, other) = if D == 2 {
+                (point_edge(mesh, s, p), mesh.edge_body(p as usize))
+            } else {
+                (point_triangle(mesh, s, p), mesh.face_body(p as usize))
+            };
+            if candidate(&stencil, (mesh.vertex_body(s as usize), other), reach) {
+                stencils.push(stencil);
+            }
         }
-        stencils.extend(
-            self.cache
-                .point_pairs
-                .iter()
-                .filter(|&&(s, f)| near(&vertex_boxes[s as usize], &face_boxes[f as usize]))
-                .map(|&(s, f)| point_triangle(mesh, s, f)),
-        );
-        stencils.extend(
-            self.cache
-                .edge_pairs
-                .iter()
-                .filter(|&&(a, b)| near(&edge_boxes[a as usize], &edge_boxes[b as usize]))
-                .map(|&(a, b)| edge_edge(mesh, a, b)),
-        );
+        for (&(a, b), &reach) in cache.edge_pairs.iter().zip(&cache.edge_reach) {
+            let stencil = edge_edge(mesh, a, b);
+            let bodies = (mesh.edge_body(a as usize), mesh.edge_body(b as usize));
+            if candidate(&stencil, bodies, reach) {
+                stencils.push(stencil);
+            }
+        }
+    }
+
+    /// `u_i` of every surface vertex and `t_b` of every body (see the
+    /// certificate of distance) for the query at `x` (and `end`), from the
+    /// cache's anchor.
+    fn measure_motion(
+        &mut self,
+        mesh: &CollisionMesh,
+        x: &[Vector<D>],
+        end: &impl Fn(usize) -> Option<Vector<D>>,
+    ) {
+        let zero = Vector::<D>::zeros();
+        self.displacements.clear();
+        self.body_shifts.clear();
+        for (s, (&v, anchor)) in mesh.vertices().iter().zip(&self.cache.anchor).enumerate() {
+            let moved = [x[v] - anchor, end(v).unwrap_or(x[v]) - anchor];
+            let body = mesh.vertex_body(s);
+            if body >= self.body_shifts.len() {
+                self.body_shifts.resize(body + 1, ([zero; 2], 0));
+            }
+            let (sum, count) = &mut self.body_shifts[body];
+            sum[0] += moved[0];
+            sum[1] += moved[1];
+            *count += 1;
+            self.displacements.push(moved);
+        }
+        for (sum, count) in &mut self.body_shifts {
+            if *count > 0 {
+                let n = *count as f64;
+                *sum = [sum[0] / n, sum[1] / n];
+            }
+        }
+        self.motion.resize(x.len(), 0.0);
+        for (s, (&v, moved)) in mesh.vertices().iter().zip(&self.displacements).enumerate() {
+            let [t0, t1] = self.body_shifts[mesh.vertex_body(s)].0;
+            self.motion[v] = (moved[0] - t0).norm().max((moved[1] - t1).norm());
+        }
     }
 
     /// A grid search over the cache boxes of the query (each surface
     /// vertex's box at `x` and `end`, grown by `activation`): the new cached
-    /// pairs.
+    /// pairs, with their distances at `x` (the new anchor).
     fn search(
         &mut self,
         mesh: &CollisionMesh,
@@ -172,6 +275,8 @@ impl<const D: usize> CandidateFinder<D> {
             let b = end(v).map_or(b, |e| b.union_point(&e));
             b.inflated(margin)
         }));
+        cache.anchor.clear();
+        cache.anchor.extend(mesh.vertices().iter().map(|&v| x[v]));
         let by_vertex = &cache.vertex_boxes;
         let box_of = |corners: &[usize]| -> Aabb<D> {
             corners.iter().fold(Aabb::empty(), |b, &v| {
@@ -204,26 +309,32 @@ impl<const D: usize> CandidateFinder<D> {
                 keep,
                 &mut cache.point_pairs,
             );
-            return;
+        } else {
+            let keep = |s: usize, f: usize| {
+                let v = mesh.vertices()[s];
+                !mesh.faces()[f].contains(&v)
+                    && distinct_bodies(mesh.vertex_body(s), mesh.face_body(f))
+            };
+            self.broad_phase.pairs_between(
+                &self.vertex_boxes,
+                &self.face_boxes,
+                activation,
+                keep,
+                &mut cache.point_pairs,
+            );
+            let keep = |a: usize, b: usize| {
+                let (ea, eb) = (mesh.edges()[a], mesh.edges()[b]);
+                !ea.iter().any(|v| eb.contains(v))
+                    && distinct_bodies(mesh.edge_body(a), mesh.edge_body(b))
+            };
+            self.broad_phase.pairs_within(
+                &self.edge_boxes,
+                activation,
+                keep,
+                &mut cache.edge_pairs,
+            );
         }
-        let keep = |s: usize, f: usize| {
-            let v = mesh.vertices()[s];
-            !mesh.faces()[f].contains(&v) && distinct_bodies(mesh.vertex_body(s), mesh.face_body(f))
-        };
-        self.broad_phase.pairs_between(
-            &self.vertex_boxes,
-            &self.face_boxes,
-            activation,
-            keep,
-            &mut cache.point_pairs,
-        );
-        let keep = |a: usize, b: usize| {
-            let (ea, eb) = (mesh.edges()[a], mesh.edges()[b]);
-            !ea.iter().any(|v| eb.contains(v))
-                && distinct_bodies(mesh.edge_body(a), mesh.edge_body(b))
-        };
-        self.broad_phase
-            .pairs_within(&self.edge_boxes, activation, keep, &mut cache.edge_pairs);
+        cache.measure_reach(mesh, x, activation);
     }
 }
 
@@ -246,6 +357,33 @@ impl<const D: usize> CandidateCache<D> {
                 .iter()
                 .zip(&self.vertex_boxes)
                 .all(|(&v, b)| inside(b, &x[v]) && end(v).is_none_or(|e| inside(b, &e)))
+    }
+
+    /// Each cached pair's `d_k - d_hat - e` from its distance at the
+    /// anchor `x` (see [`CandidateFinder`]); NaN where a coordinate is not
+    /// a number, which no comparison passes, so such a pair is never dropped.
+    fn measure_reach(&mut self, mesh: &CollisionMesh, x: &[Vector<D>], activation: f64) {
+        let magnitude = self
+            .vertex_boxes
+            .iter()
+            .flat_map(|b| b.min.iter().chain(b.max.iter()))
+            .fold(0.0f64, |m, c| m.max(c.abs()));
+        let margin = activation + 1e-9 * magnitude;
+        let reach =
+            |stencil: ContactStencil| stencil.distance_squared(x).sqrt() * (1.0 - 1e-9) - margin;
+        let point_stencil = if D == 2 { point_edge } else { point_triangle };
+        self.point_reach.clear();
+        self.point_reach.extend(
+            self.point_pairs
+                .iter()
+                .map(|&(s, p)| reach(point_stencil(mesh, s, p))),
+        );
+        self.edge_reach.clear();
+        self.edge_reach.extend(
+            self.edge_pairs
+                .iter()
+                .map(|&(a, b)| reach(edge_edge(mesh, a, b))),
+        );
     }
 }
 
@@ -300,96 +438,4 @@ fn edge_edge(mesh: &CollisionMesh, a: u32, b: u32) -> ContactStencil {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::mesh::Mesh;
-
-    /// A finder that never reuses its cache: the grid's own answer.
-    fn fresh<const D: usize>(
-        mesh: &CollisionMesh,
-        x: &[Vector<D>],
-        dx: Option<&[Vector<D>]>,
-        activation: f64,
-    ) -> Vec<ContactStencil> {
-        let mut out = Vec::new();
-        CandidateFinder::<D>::default().find(mesh, x, dx, activation, true, &mut out);
-        out
-    }
-
-    /// Two stacked boxes, `gap` apart, as one collision mesh.
-    fn stacked<const D: usize>(cells: usize, gap: f64) -> (CollisionMesh, Vec<Vector<D>>) {
-        let unit =
-            Mesh::axis_aligned_box(Vector::<D>::zeros(), Vector::<D>::repeat(1.0), [cells; D])
-                .unwrap();
-        let n = unit.vertex_count();
-        let mut lift = Vector::<D>::zeros();
-        lift[1] = 1.0 + gap;
-        let mut positions = unit.rest_positions().to_vec();
-        positions.extend(unit.rest_positions().iter().map(|p| p + lift));
-        let mut simplices: Vec<Vec<usize>> = unit.simplices().map(<[usize]>::to_vec).collect();
-        simplices.extend(unit.simplices().map(|s| s.iter().map(|v| v + n).collect()));
-        let mesh = Mesh::new(positions.clone(), simplices).unwrap();
-        let owner: Vec<usize> = (0..2 * n).map(|v| v / n).collect();
-        (CollisionMesh::new(&mesh, &owner), positions)
-    }
-
-    /// A deterministic pseudo-random number in [-1, 1).
-    fn noise(seed: &mut u64) -> f64 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (*seed >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
-
-    /// Over a walk of small and large moves, static and swept, the cached
-    /// finder answers exactly what a fresh grid search answers, and small
-    /// moves are answered from the cache.
-    fn cached_answers_are_the_grids<const D: usize>() {
-        let activation = 0.05;
-        let (mesh, mut x) = stacked::<D>(3, 0.03);
-        let mut finder = CandidateFinder::<D>::default();
-        let mut seed = 7;
-        let mut out = Vec::new();
-        let mut queries = 0;
-        for step in 0..60 {
-            // Mostly moves well below the margin; every 10th a jump.
-            let size = if step % 10 == 9 { 0.3 } else { 0.004 };
-            let dx: Vec<Vector<D>> = x
-                .iter()
-                .map(|_| Vector::<D>::from_fn(|_, _| size * noise(&mut seed)))
-                .collect();
-            finder.find(&mesh, &x, None, activation, true, &mut out);
-            assert_eq!(
-                out,
-                fresh(&mesh, &x, None, activation),
-                "static query {step}"
-            );
-            finder.find(&mesh, &x, Some(&dx), activation, true, &mut out);
-            assert_eq!(
-                out,
-                fresh(&mesh, &x, Some(&dx), activation),
-                "swept query {step}"
-            );
-            queries += 2;
-            for (p, d) in x.iter_mut().zip(&dx) {
-                *p += d * 0.5;
-            }
-        }
-        assert!(!out.is_empty());
-        assert!(
-            finder.searches() < queries / 3,
-            "{} grid searches for {queries} queries",
-            finder.searches()
-        );
-    }
-
-    #[test]
-    fn cached_candidates_are_the_grids_in_2d() {
-        cached_answers_are_the_grids::<2>();
-    }
-
-    #[test]
-    fn cached_candidates_are_the_grids_in_3d() {
-        cached_answers_are_the_grids::<3>();
-    }
-}
+mod tests;
