@@ -16,7 +16,7 @@ mod support;
 mod cli_common;
 // The independent intersection check of saved surfaces (its own tests
 // allocate, so it stays out of `support`, which tests/allocations.rs shares).
-#[path = "support/intersection.rs"]
+#[path = "support/intersection/mod.rs"]
 mod intersection;
 mod mp4_file;
 mod render_support;
@@ -46,6 +46,7 @@ mod mesh;
 mod mesh_file_guards;
 mod mesh_import;
 mod moving_boundaries;
+mod moving_boundaries_input;
 mod obstacles;
 mod output_folder;
 mod output_whole_files;
