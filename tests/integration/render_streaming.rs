@@ -274,23 +274,12 @@ mod regression_interrupt_left_partial_video {
     use std::io::Read;
     use std::path::{Path, PathBuf};
     use std::process::{Child, ExitStatus, Stdio};
-    use std::time::{Duration, Instant};
+    use std::time::Duration;
 
-    /// Waits for `child`, killing it and failing the test after `limit`;
-    /// returns its status and its stderr.
+    /// Waits for `child` (see [`crate::cli_common::wait_for_exit`]); returns
+    /// its status and its stderr.
     fn wait_at_most(child: &mut Child, limit: Duration) -> (ExitStatus, String) {
-        let start = Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if start.elapsed() > limit {
-                let _ = child.kill();
-                let _ = child.wait();
-                panic!("elasto still ran after {limit:?}: it hangs");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let status = crate::cli_common::wait_for_exit(child, limit, "elasto");
         let mut stderr = String::new();
         if let Some(mut pipe) = child.stderr.take() {
             pipe.read_to_string(&mut stderr).unwrap();
