@@ -125,13 +125,13 @@ pub(crate) struct Framing {
 pub(crate) fn resolve(camera: &Camera, framing: &Framing) -> Result<View, RenderError> {
     let aspect = framing.width as f32 / framing.height as f32;
     match *camera {
-        Camera::Auto if framing.dimension == 2 => {
-            let (aspect, squeeze) = free_area(framing);
-            Ok(squeeze_view(auto_2d(framing, aspect), squeeze))
-        }
         Camera::Auto => {
             let (aspect, squeeze) = free_area(framing);
-            Ok(squeeze_view(auto_3d(framing, aspect), squeeze))
+            let view = match framing.dimension {
+                2 => auto_2d(framing, aspect),
+                _ => auto_3d(framing, aspect),
+            };
+            Ok(squeeze_view(view, squeeze))
         }
         Camera::Orthographic { center, height } => {
             let valid = height > 0.0 && height.is_finite() && center.iter().all(|c| c.is_finite());

@@ -12,7 +12,7 @@
 
 use super::colormap::viridis;
 use super::pixel_rect::PixelRect;
-use super::text::{self, text_width};
+use super::text::{self, blend_pixel, text_width};
 use image::RgbaImage;
 
 /// Text colour, sRGB.
@@ -154,7 +154,7 @@ impl Legend {
             let t = 1.0 - ((y - y0) as f32 + 0.5) / (y1 - y0) as f32;
             let c = viridis(t).map(|v| (v * 255.0).round() as u8);
             for x in x0..x1 {
-                blend(image, x, y, c, 1.0);
+                blend_pixel(image, x, y, c, 1.0);
             }
         }
         let border = (s.round() as i64).max(1);
@@ -168,7 +168,7 @@ impl Legend {
             let yi = y.round() as i64;
             for dy in 0..border {
                 for x in x1..x1 + tick_len {
-                    blend(image, x, yi - border / 2 + dy, INK, 1.0);
+                    blend_pixel(image, x, yi - border / 2 + dy, INK, 1.0);
                 }
             }
             let baseline = y + 0.36 * self.font_px;
@@ -232,17 +232,6 @@ fn draw_text(image: &mut RgbaImage, text: &str, x: f32, baseline: f32, px: f32) 
     text::draw_text(image, text, x.round(), baseline.round(), px, INK);
 }
 
-fn blend(image: &mut RgbaImage, x: i64, y: i64, colour: [u8; 3], alpha: f32) {
-    if x < 0 || y < 0 || x >= image.width() as i64 || y >= image.height() as i64 {
-        return;
-    }
-    let alpha = alpha.clamp(0.0, 1.0);
-    let pixel = image.get_pixel_mut(x as u32, y as u32);
-    for (channel, &target) in pixel.0.iter_mut().zip(&colour) {
-        *channel = (*channel as f32 * (1.0 - alpha) + target as f32 * alpha).round() as u8;
-    }
-}
-
 fn stroke_rect(
     image: &mut RgbaImage,
     x0: i64,
@@ -255,7 +244,7 @@ fn stroke_rect(
     for y in y0 - width..y1 + width {
         for x in x0 - width..x1 + width {
             if x < x0 || x >= x1 || y < y0 || y >= y1 {
-                blend(image, x, y, colour, 1.0);
+                blend_pixel(image, x, y, colour, 1.0);
             }
         }
     }
@@ -275,7 +264,7 @@ fn fill_rounded(image: &mut RgbaImage, r: Rect, radius: f32, colour: [u8; 3], al
                 (qx.max(0.0).powi(2) + qy.max(0.0).powi(2)).sqrt() + qx.max(qy).min(0.0) - radius;
             let coverage = (0.5 - outside).clamp(0.0, 1.0);
             if coverage > 0.0 {
-                blend(image, x, y, colour, alpha * coverage);
+                blend_pixel(image, x, y, colour, alpha * coverage);
             }
         }
     }

@@ -142,6 +142,28 @@ acceleration = [0.0, -1.0]
 height = 0.0
 "#;
 
+/// Waits for `child` to exit and returns its status, but kills it and fails
+/// the test when it has not ended after `limit` (`what` names it then): for
+/// runs that once hung.
+pub fn wait_for_exit(
+    child: &mut std::process::Child,
+    limit: std::time::Duration,
+    what: &str,
+) -> std::process::ExitStatus {
+    let start = std::time::Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what} still ran after {limit:?}: it hangs");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+}
+
 /// Runs the real binary with `args` in `cwd` like [`elasto`], but kills it
 /// and fails the test when it has not ended after `limit`: for inputs that
 /// once made it hang.
@@ -168,18 +190,7 @@ pub fn elasto_within(cwd: &Path, args: &[&str], limit: std::time::Duration) -> O
         let _ = err_pipe.read_to_end(&mut bytes);
         bytes
     });
-    let start = std::time::Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("elasto {args:?} still ran after {limit:?}: it hangs");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    };
+    let status = wait_for_exit(&mut child, limit, &format!("elasto {args:?}"));
     Output {
         status,
         stdout: out_reader.join().unwrap(),

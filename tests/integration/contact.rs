@@ -1,4 +1,4 @@
-//! Contact between and within bodies (IPC), through the binary: bodies that meet stay apart on every saved frame (checked by the independent intersection test of `support/intersection.rs`), the same scenes without `[effects.contact]` pass through each other, and bodies that start intersecting are refused before any work.
+//! Contact between and within bodies (IPC), through the binary: bodies that meet stay apart on every saved frame (checked by the independent intersection test of `support/intersection/`), the same scenes without `[effects.contact]` pass through each other, and bodies that start intersecting are refused before any work.
 
 use crate::cli_common::*;
 use crate::intersection::{SavedSurface, find_intersections};

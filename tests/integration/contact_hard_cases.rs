@@ -5,7 +5,7 @@
 //!
 //! Per run:
 //! - exit 0, and every saved frame is intersection-free by the independent
-//!   check of `support/intersection.rs` (crossings and containment), the
+//!   check of `support/intersection/` (crossings and containment), the
 //!   frame's obstacles (`obstacles_NNNN.obj`, or frame 0's when they hold
 //!   still) appended to its bodies: body–obstacle pairs count, obstacle–
 //!   obstacle pairs do not;

@@ -16,7 +16,7 @@ mod support;
 mod cli_common;
 // The independent intersection check of saved surfaces (its own tests
 // allocate, so it stays out of `support`, which tests/allocations.rs shares).
-#[path = "support/intersection.rs"]
+#[path = "support/intersection/mod.rs"]
 mod intersection;
 mod mp4_file;
 mod render_support;
@@ -46,13 +46,16 @@ mod mesh;
 mod mesh_file_guards;
 mod mesh_import;
 mod moving_boundaries;
+mod moving_boundaries_input;
 mod obstacles;
 mod output_folder;
 mod output_whole_files;
 mod readme_manual;
+mod render_colour_and_text;
 mod render_errors;
 mod render_export;
 mod render_image;
+mod render_mesh_view;
 mod render_obstacles;
 mod render_pipeline;
 mod render_profile;

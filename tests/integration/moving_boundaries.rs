@@ -3,27 +3,26 @@
 //!
 //! Pinned vertices are eliminated unknowns that follow the rigid path
 //! `x(t) = c + R(w tau)(X - c) + v tau`, `tau = min(t, until)`: the tests
-//! check that they are on it to round-off (translation, rotation, stop),
-//! that their velocities are the path's under every integrator, that a bar
-//! pulled at one end carries the analytic static force, that a body dragged
-//! by a region ends up moving with it, that a move that would invert an
-//! element or enter the ground is refused with a message, and that the scene
-//! keys are validated with messages naming `effects.pinned[i].key`.
+//! check that they are on it to round-off (translation, rotation, stop,
+//! release), that their velocities are the path's under every integrator,
+//! that a bar pulled at one end carries the analytic static force, that a
+//! body dragged by a region ends up moving with it, and that a move too far
+//! for one step arrives through the solve. What is refused and how the
+//! scene keys read: `moving_boundaries_input`.
 
 use elasto::integrator::IntegratorKind;
 use elasto::material::{LameParameters, Material, MaterialModel, YoungPoisson};
 use elasto::math::{Vector, Vector3};
 use elasto::mesh::Mesh;
-use elasto::scene::{Scene, SceneError, SceneSource};
-use elasto::sim::{Effects, Ground, PinMotion, PinRegion, Simulation, SimulationSettings, rotate};
+use elasto::sim::{Effects, PinMotion, PinRegion, Simulation, SimulationSettings, rotate};
 
-fn material(model: MaterialModel, young: f64, poisson: f64) -> Material {
+pub(crate) fn material(model: MaterialModel, young: f64, poisson: f64) -> Material {
     let lame: LameParameters = YoungPoisson { young, poisson }.into();
     model.with_lame(lame)
 }
 
 /// A bar `[0, length] x [0, 1]^(D-1)` of `cells` cells along x and 2 across.
-fn bar<const D: usize>(length: f64, cells: usize) -> Mesh<D> {
+pub(crate) fn bar<const D: usize>(length: f64, cells: usize) -> Mesh<D> {
     let max = Vector::<D>::from_fn(|k, _| if k == 0 { length } else { 1.0 });
     let mut counts = [2; D];
     counts[0] = cells;
@@ -31,7 +30,7 @@ fn bar<const D: usize>(length: f64, cells: usize) -> Mesh<D> {
 }
 
 /// The slab `x <= eps` (left end) or `x >= length - eps` (right end).
-fn end<const D: usize>(x0: f64, x1: f64) -> PinRegion<D> {
+pub(crate) fn end<const D: usize>(x0: f64, x1: f64) -> PinRegion<D> {
     PinRegion::new(
         Vector::<D>::from_fn(|k, _| if k == 0 { x0 } else { -1.0 }),
         Vector::<D>::from_fn(|k, _| if k == 0 { x1 } else { 2.0 }),
@@ -369,235 +368,6 @@ fn a_move_too_far_for_one_step_arrives_through_the_solve() {
         pulled > 0,
         "no step needed the augmented Lagrangian: the case is too easy"
     );
-}
-
-/// A region driven into the ground is refused before the solve.
-#[test]
-fn a_move_into_the_ground_is_refused() {
-    let mesh = Mesh::axis_aligned_box(
-        Vector::<2>::new(0.0, 0.5),
-        Vector::<2>::new(1.0, 1.5),
-        [2, 2],
-    )
-    .unwrap();
-    let plate =
-        PinRegion::new(Vector::<2>::new(-1.0, 0.4), Vector::<2>::new(2.0, 0.6)).moving(PinMotion {
-            velocity: Vector::<2>::new(0.0, -1.0),
-            ..PinMotion::default()
-        });
-    let effects = Effects {
-        gravity: None,
-        ground: Some(Ground {
-            height: 0.0,
-            activation_distance: 0.1,
-            stiffness: None,
-            friction: 0.0,
-        }),
-        contact: None,
-        pinned: vec![plate],
-        obstacles: Vec::new(),
-    };
-    let settings = SimulationSettings {
-        dt: 0.1,
-        ..Default::default()
-    };
-    let mut sim = Simulation::new(
-        mesh,
-        material(MaterialModel::NeoHookean, 100.0, 0.3),
-        1.0,
-        effects,
-        settings,
-        Vector::<2>::zeros(),
-    )
-    .unwrap();
-    let mut outcome = Ok(());
-    for _ in 0..10 {
-        if let Err(e) = sim.step() {
-            outcome = Err(e);
-            break;
-        }
-        assert!(sim.frame_stats().min_height.unwrap() > 0.0);
-    }
-    let text = outcome.unwrap_err().to_string();
-    assert!(text.contains("on or below the ground"), "{text}");
-    // Steps 0..4 reach heights 0.4 .. 0.1; the 5th would reach 0.
-    assert_eq!(sim.step_count(), 4);
-}
-
-/// Setting a region's motion checks its numbers.
-#[test]
-fn a_motion_with_bad_numbers_is_bad_input() {
-    let bad = [
-        PinMotion {
-            angular_velocity: 1.0,
-            axis: Vector3::new(1.0, 1.0, 0.0),
-            ..PinMotion::default()
-        },
-        PinMotion {
-            velocity: Vector::<3>::new(f64::NAN, 0.0, 0.0),
-            ..PinMotion::default()
-        },
-        PinMotion {
-            until: Some(-1.0),
-            ..PinMotion::default()
-        },
-    ];
-    for motion in bad {
-        let effects = Effects {
-            gravity: None,
-            ground: None,
-            contact: None,
-            pinned: vec![end::<3>(-1.0, 1e-9).moving(motion)],
-            obstacles: Vec::new(),
-        };
-        let error = Simulation::new(
-            bar::<3>(2.0, 2),
-            material(MaterialModel::NeoHookean, 100.0, 0.3),
-            1.0,
-            effects,
-            SimulationSettings::default(),
-            Vector::<3>::zeros(),
-        )
-        .err()
-        .expect("refused");
-        assert!(error.is_bad_input(), "{error}");
-        assert!(error.to_string().contains("effects.pinned[0]"), "{error}");
-    }
-}
-
-fn load(text: &str) -> Result<Scene, SceneError> {
-    let source = SceneSource {
-        label: "test.toml".into(),
-        default_name: "test".into(),
-        path: None,
-        text: text.into(),
-    };
-    Scene::load(&source, &[])
-}
-
-const BAR_2D: &str = "dimension = 2\n\n[mesh]\nsize = [4.0, 1.0]\ncells = [4, 1]\n\n\
-                      [material]\nmodel = \"neo-hookean\"\nyoung = 100.0\npoisson = 0.3\n";
-const BAR_3D: &str = "dimension = 3\n\n[mesh]\nsize = [4.0, 1.0, 1.0]\ncells = [4, 1, 1]\n\n\
-                      [material]\nmodel = \"neo-hookean\"\nyoung = 100.0\npoisson = 0.3\n";
-
-/// `[[effects.pinned]]` regions read into the effects, with their motion
-/// and the centre of the box as the default centre of rotation; the old
-/// single `[effects.pinned]` table still reads as one region.
-#[test]
-fn pinned_regions_are_read_from_the_scene() {
-    let text = format!(
-        "{BAR_3D}\n[[effects.pinned]]\nmin = [-1, -1, -1]\nmax = [0, 2, 2]\n\
-         angular_velocity = -1.2566\naxis = [2, 0, 0]\nuntil = 5.0\n\n\
-         [[effects.pinned]]\nmin = [4, -1, -1]\nmax = [5, 2, 2]\nvelocity = [0.1, 0, 0]\n"
-    );
-    let Scene::Three(c) = load(&text).unwrap() else {
-        panic!("3D")
-    };
-    assert_eq!(c.effects.pinned.len(), 2);
-    let twist = c.effects.pinned[0].motion;
-    assert_eq!(twist.angular_velocity, -1.2566);
-    assert_eq!(twist.axis, Vector3::x());
-    assert_eq!(twist.center, Vector3::new(-0.5, 0.5, 0.5));
-    assert_eq!(twist.until, Some(5.0));
-    assert_eq!(
-        c.effects.pinned[1].motion.velocity,
-        Vector3::new(0.1, 0.0, 0.0)
-    );
-    assert_eq!(c.effects.pinned[1].motion.until, None);
-    let old = format!("{BAR_2D}\n[effects.pinned]\nmin = [-1, -1]\nmax = [0, 2]\n");
-    let Scene::Two(c) = load(&old).unwrap() else {
-        panic!("2D")
-    };
-    assert_eq!(c.effects.pinned.len(), 1);
-    assert!(!c.effects.pinned[0].motion.is_moving());
-}
-
-/// Every bad region key is named with its index.
-#[test]
-fn bad_region_keys_are_named_with_their_index() {
-    let region0 = "[[effects.pinned]]\nmin = [-1, -1]\nmax = [0, 2]\n";
-    let cases: &[(&str, &str, &str, &str)] = &[
-        (
-            BAR_2D,
-            "axis = [0, 0, 1]\nangular_velocity = 1.0\n",
-            "effects.pinned[1].axis",
-            "3D key",
-        ),
-        (
-            BAR_2D,
-            "velocity = [1, 2, 3]\n",
-            "effects.pinned[1].velocity",
-            "2 components",
-        ),
-        (
-            BAR_2D,
-            "angular_velocity = inf\n",
-            "effects.pinned[1].angular_velocity",
-            "finite",
-        ),
-        (
-            BAR_2D,
-            "center = [1, 1]\n",
-            "effects.pinned[1].center",
-            "without",
-        ),
-        (
-            BAR_2D,
-            "until = 1.0\n",
-            "effects.pinned[1].until",
-            "does not move",
-        ),
-        (
-            BAR_2D,
-            "velocity = [1, 0]\nuntil = -1.0\n",
-            "effects.pinned[1].until",
-            ">= 0",
-        ),
-        (
-            BAR_2D,
-            "speed = 1.0\n",
-            "effects.pinned[1].speed",
-            "unknown field",
-        ),
-        (
-            BAR_3D,
-            "angular_velocity = 1.0\n",
-            "effects.pinned[1].axis",
-            "required",
-        ),
-        (
-            BAR_3D,
-            "angular_velocity = 1.0\naxis = [0, 0, 0]\n",
-            "effects.pinned[1].axis",
-            "non-zero",
-        ),
-    ];
-    for (scene, extra, key, words) in cases {
-        let (min, max) = if scene.contains("dimension = 2") {
-            ("[4, -1]", "[5, 2]")
-        } else {
-            ("[4, -1, -1]", "[5, 2, 2]")
-        };
-        let first = if scene.contains("dimension = 2") {
-            region0.to_owned()
-        } else {
-            "[[effects.pinned]]\nmin = [-1, -1, -1]\nmax = [0, 2, 2]\n".to_owned()
-        };
-        let text =
-            format!("{scene}\n{first}\n[[effects.pinned]]\nmin = {min}\nmax = {max}\n{extra}");
-        let Err(SceneError::Invalid(d)) = load(&text) else {
-            panic!("{extra}: expected an error")
-        };
-        assert_eq!(d.key.as_deref(), Some(*key), "{extra}: {d}");
-        assert!(d.reason.contains(words), "{extra}: {d}");
-        assert!(d.to_string().starts_with("test.toml:"), "{d}");
-    }
-    // A region that catches nothing is named by its index too.
-    let text = format!("{BAR_2D}\n{region0}\n[[effects.pinned]]\nmin = [9, 9]\nmax = [10, 10]\n");
-    let Err(SceneError::Invalid(d)) = load(&text) else {
-        panic!("expected an error")
-    };
-    assert_eq!(d.key.as_deref(), Some("effects.pinned[1]"), "{d}");
 }
 
 /// A body's own pinned region (`[[bodies]]`' `pinned`) takes the same

@@ -424,6 +424,7 @@ mod regression_force_removed_frames_it_never_wrote {
 /// ended mixed (frames of one, stats of both). Now a run locks its output
 /// folder while it writes, and a second writer is refused (exit 2, naming
 /// the folder) before it removes or writes anything.
+#[cfg(unix)]
 mod regression_two_writers_mixed_one_folder {
     use crate::cli_common as common;
     use common::*;
@@ -463,6 +464,16 @@ mod regression_two_writers_mixed_one_folder {
             Duration::from_secs(60),
             || rows() >= 3,
         );
+        // Stopped, the first run holds the folder's lock for as long as the
+        // second one runs, whatever the scheduler does.
+        let pid = first.id() as libc::pid_t;
+        let signal = |signal| {
+            // SAFETY: kill(2) has no memory-safety preconditions.
+            let sent = unsafe { libc::kill(pid, signal) };
+            assert_eq!(sent, 0, "signal {signal} to the first run");
+        };
+        signal(libc::SIGSTOP);
+        let still_running = first.try_wait().unwrap().is_none();
         let second = elasto(
             dir,
             &[
@@ -478,10 +489,13 @@ mod regression_two_writers_mixed_one_folder {
             ],
         );
         let written_meanwhile = rows();
-        let still_running = first.try_wait().unwrap().is_none();
+        signal(libc::SIGCONT);
         first.kill().unwrap();
         first.wait().unwrap();
-        assert!(still_running, "the first run was still writing");
+        assert!(
+            still_running,
+            "the first run was still writing when stopped"
+        );
         assert_code(&second, 2);
         assert!(
             stderr(&second).contains("another elasto is writing into the output folder out now"),

@@ -274,23 +274,12 @@ mod regression_interrupt_left_partial_video {
     use std::io::Read;
     use std::path::{Path, PathBuf};
     use std::process::{Child, ExitStatus, Stdio};
-    use std::time::{Duration, Instant};
+    use std::time::Duration;
 
-    /// Waits for `child`, killing it and failing the test after `limit`;
-    /// returns its status and its stderr.
+    /// Waits for `child` (see [`crate::cli_common::wait_for_exit`]); returns
+    /// its status and its stderr.
     fn wait_at_most(child: &mut Child, limit: Duration) -> (ExitStatus, String) {
-        let start = Instant::now();
-        let status = loop {
-            if let Some(status) = child.try_wait().unwrap() {
-                break status;
-            }
-            if start.elapsed() > limit {
-                let _ = child.kill();
-                let _ = child.wait();
-                panic!("elasto still ran after {limit:?}: it hangs");
-            }
-            std::thread::sleep(Duration::from_millis(20));
-        };
+        let status = crate::cli_common::wait_for_exit(child, limit, "elasto");
         let mut stderr = String::new();
         if let Some(mut pipe) = child.stderr.take() {
             pipe.read_to_string(&mut stderr).unwrap();
@@ -378,9 +367,10 @@ mod regression_interrupt_left_partial_video {
             }),
             "{after:?}"
         );
-        // The frames written before the signal stay, each complete.
+        // The frames written before the signal stay, each complete (the exit
+        // code says the run was interrupted, however far it had come).
         let frames: Vec<_> = after.iter().filter(|f| f.starts_with("frames")).collect();
-        assert!(!frames.is_empty() && frames.len() < 5000, "{after:?}");
+        assert!(!frames.is_empty(), "{after:?}");
         for frame in &frames {
             let image = image::open(out.join(frame)).unwrap();
             assert_eq!((image.width(), image.height()), (64, 48), "{frame:?}");
@@ -445,21 +435,19 @@ mod regression_interrupt_left_partial_video {
         );
 
         // Every frame simulated before the signal has its row, complete and in
-        // order; the run was stopped long before its end.
+        // order (the exit code says the run was interrupted).
         let text = std::fs::read_to_string(&stats).unwrap();
         let (header, rows) = crate::cli_common::read_csv(&stats);
-        assert!(
-            rows.len() >= seen && rows.len() < 20_000,
-            "{} rows",
-            rows.len()
-        );
+        assert!(rows.len() >= seen, "{} rows, {seen} seen", rows.len());
         for (frame, cells) in rows.iter().enumerate() {
             assert_eq!(cells.len(), header.len(), "row {frame}: {cells:?}");
             assert_eq!(cells[0], frame.to_string(), "rows in frame order");
         }
         assert!(text.ends_with('\n'), "the last row is whole");
-        // No image was drawn: the simulation had not finished.
+        // No image was drawn before the simulation had finished (the
+        // automatic camera frames the whole run).
         let frames = out.join("frames");
-        assert!(!frames.exists() || std::fs::read_dir(&frames).unwrap().next().is_none());
+        let no_image = !frames.exists() || std::fs::read_dir(&frames).unwrap().next().is_none();
+        assert!(no_image || rows.len() == 20_000, "{} rows", rows.len());
     }
 }
