@@ -292,12 +292,12 @@ fn obstacles_that_start_in_contact_or_without_contact_are_refused() {
         // The plate through the block.
         (
             pushed_block("").replace("offset = [-0.2, 0.05]", "offset = [-0.05, 0.05]"),
-            "body 0 and obstacle 0 (obstacles[0])",
+            "`obstacles[0]`: body 0 and obstacle 0 (obstacles[0]) start 0.000e0 apart",
         ),
         // The plate 1e-3 from the block, within d_hat = 5e-3.
         (
             pushed_block("").replace("offset = [-0.2, 0.05]", "offset = [-0.101, 0.05]"),
-            "closer than the contact distance",
+            "`obstacles[0]`: body 0 and obstacle 0 (obstacles[0]) start 1.000e-3 apart",
         ),
         // The block inside a big box obstacle.
         (
@@ -305,7 +305,7 @@ fn obstacles_that_start_in_contact_or_without_contact_are_refused() {
                 "mesh = { size = [0.1, 0.5], offset = [-0.2, 0.05] }",
                 "mesh = { size = [2.0, 2.0], offset = [-1.0, -0.5] }",
             ),
-            "body 0 starts inside obstacle 0 (obstacles[0])",
+            "`obstacles[0]`: body 0 starts inside obstacle 0 (obstacles[0])",
         ),
         // No [effects.contact].
         (
