@@ -5,9 +5,9 @@
 //! key), then checks what the run needs against this machine
 //! (`preflight.rs`: memory, the adapter's image size), has the validator
 //! mesh the bodies and check them as a whole, and checks what only the
-//! built simulation knows (`preflight.rs`: the starting energy, the barrier
-//! stiffness) — bad input, [`AppError::exit_code`] 2 — and only then starts
-//! work (failures: exit code 1). A finished run reports what went wrong without stopping it
+//! built simulation knows (`preflight.rs`: the starting energy) — bad
+//! input, [`AppError::exit_code`] 2 — and only then starts work (failures:
+//! exit code 1). A finished run reports what went wrong without stopping it
 //! in its [`RunHealth`] summary.
 
 mod app_error;
@@ -101,7 +101,7 @@ fn shortcut_overrides(
 /// that it fits in memory, then has the validator mesh the bodies and check
 /// them as a whole (its second stage, [`SceneConfig::meshed_bodies`]), and
 /// after building checks what only the simulation knows: a finite starting
-/// energy and the barrier stiffness against the automatic one. Every
+/// energy. Every
 /// problem is a scene error at its key; the simulation itself fails only in
 /// setting up its solver.
 fn build_simulation<const D: usize>(
@@ -116,6 +116,5 @@ fn build_simulation<const D: usize>(
             source,
         })?;
     preflight::check_starting_energy(config, &sim, input)?;
-    preflight::check_barrier_stiffness(config, &sim, input)?;
     Ok(sim)
 }

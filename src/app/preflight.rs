@@ -1,15 +1,12 @@
 //! Checks made after the scene is validated and before any work or file,
 //! of what the scene validator cannot know: what the run will allocate
 //! against this machine's memory (before any mesh is built), the image size
-//! against the graphics adapter, and on the built simulation the starting
-//! energy and the barrier stiffness against the automatic one (which needs
-//! the starting velocities of pinned vertices, from their paths). Each
-//! failure is a scene error at its key (exit code 2).
+//! against the graphics adapter, and the starting energy of the built
+//! simulation. Each failure is a scene error at its key (exit code 2).
 
 use super::AppError;
-use crate::energy::GROUND_STIFFNESS_RATIO;
 use crate::render::RenderSettings;
-use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource, approx, image_bytes, num};
+use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource, approx, image_bytes};
 use crate::sim::Simulation;
 
 /// A scene's source and overrides, to report a problem at its key.
@@ -165,37 +162,6 @@ pub(crate) fn check_image_size(
         Some(reason) => Err(input.error("render.resolution", reason)),
         None => Ok(()),
     }
-}
-
-/// A stiffness given in the scene must lie within [`GROUND_STIFFNESS_RATIO`]
-/// of the automatic one for this body.
-pub(crate) fn check_barrier_stiffness<const D: usize>(
-    config: &SceneConfig<D>,
-    sim: &Simulation<D>,
-    input: SceneInput,
-) -> Result<(), AppError> {
-    let Some(kappa) = config.effects.ground.and_then(|g| g.stiffness) else {
-        return Ok(());
-    };
-    let Some(automatic) = sim.ground().map(|g| g.automatic_stiffness()) else {
-        return Ok(());
-    };
-    let [low, high] = GROUND_STIFFNESS_RATIO.map(|r| r * automatic);
-    if !(kappa >= low && kappa <= high) {
-        return Err(input.error(
-            "effects.ground.kappa",
-            format!(
-                "must lie in [{}, {}] for this scene, 1e-6 to 1e6 times the automatic \
-                 stiffness {} (stiffer, the body freezes at the barrier's edge; softer, it \
-                 comes within round-off of the ground); got {}",
-                approx(low),
-                approx(high),
-                approx(automatic),
-                num(kappa)
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// Every term of the incremental potential must be finite at the start,

@@ -12,8 +12,8 @@
 //! when a run is about to start and its memory was checked, the bodies'
 //! meshes built and checked as a whole (`meshed_bodies.rs`:
 //! [`SceneConfig::meshed_bodies`]). Only what needs the built simulation
-//! (its starting energy, the ground's automatic stiffness) or the machine
-//! is checked after, by the commands' preflight.
+//! (its starting energy) or the machine is checked after, by the commands'
+//! preflight.
 
 use super::SceneError;
 use super::folder_name::folder_name_problem;

@@ -50,6 +50,7 @@ pub use obstacle::Obstacle;
 pub use pin_region::{PinMotion, PinRegion, rotate};
 pub use sim_error::SimError;
 pub use simulation::Simulation;
+pub use simulation_setup::automatic_ground_stiffness;
 pub use start_problem::{Collider, StartProblem, start_problem};
 pub use stats::{ContactStats, EnergyBreakdown, FrameStats, StepStats};
 

@@ -22,11 +22,68 @@ use super::start_problem::joined_mesh;
 use super::{Body, Effects, PinMotion, PinRegion, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
 use crate::contact::ObstacleSurface;
-use crate::energy::{BodyElasticity, EnergyTerm, Gravity, Inertia};
+use crate::energy::{BodyElasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
 use std::sync::Arc;
+
+/// Which pinned region holds a body's vertex at rest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Holder {
+    /// `effects.pinned[i]`.
+    Effect(usize),
+    /// The body's own region.
+    Own,
+}
+
+/// The region that holds the vertex at rest position `x` of a body pinned
+/// by `own`: the first of the effects' `regions` that contains it, else the
+/// body's own; `None` for a free vertex.
+fn holder<const D: usize>(
+    regions: &[PinRegion<D>],
+    own: Option<PinRegion<D>>,
+    x: &Vector<D>,
+) -> Option<Holder> {
+    match regions.iter().position(|r| r.contains(x)) {
+        Some(i) => Some(Holder::Effect(i)),
+        None => own.filter(|r| r.contains(x)).map(|_| Holder::Own),
+    }
+}
+
+/// The stiffness the ground's default rule gives `bodies` under `effects`,
+/// as [`Simulation::with_bodies`] computes it for them (at rest, pinned
+/// vertices moving with their paths); `None` without a ground. The scene
+/// validator holds a given `effects.ground.kappa` against it.
+pub fn automatic_ground_stiffness<const D: usize>(
+    bodies: &[Body<D>],
+    effects: &Effects<D>,
+) -> Option<f64> {
+    let ground = effects.ground?;
+    let mut masses = Vec::new();
+    let mut positions = Vec::new();
+    let mut velocities = Vec::new();
+    for body in bodies {
+        masses.extend(body.mesh.lumped_masses(body.density));
+        for x in body.mesh.rest_positions() {
+            let motion = match holder(&effects.pinned, body.pinned, x) {
+                Some(Holder::Effect(i)) => Some(effects.pinned[i].motion),
+                Some(Holder::Own) => body.pinned.map(|r| r.motion),
+                None => None,
+            };
+            positions.push(*x);
+            velocities.push(motion.map_or(body.velocity, |m| m.velocity_of(x, 0.0)));
+        }
+    }
+    Some(GroundBarrier::default_stiffness(
+        ground.height,
+        ground.activation_distance,
+        &masses,
+        &positions,
+        &velocities,
+        effects.gravity,
+    ))
+}
 
 /// `a_0 = -M^{-1} grad U(x_0)` on free vertices, zero on pinned ones: the
 /// acceleration of the initial state under every potential term.
@@ -136,14 +193,10 @@ impl<const D: usize> Simulation<D> {
             })
             .collect();
         // A vertex follows the first region (in that order) that holds it at rest.
-        let motion_of = |v: usize, x: &Vector<D>| {
-            effects
-                .pinned
-                .iter()
-                .position(|r| r.contains(x))
-                .or_else(|| {
-                    body_motion[owner[v]].filter(|_| pins[owner[v]].is_some_and(|r| r.contains(x)))
-                })
+        let motion_of = |v: usize, x: &Vector<D>| match holder(&effects.pinned, pins[owner[v]], x)?
+        {
+            Holder::Effect(i) => Some(i),
+            Holder::Own => body_motion[owner[v]],
         };
         let mut free_count = 0;
         let mut pinned = Vec::new();
@@ -290,5 +343,69 @@ impl<const D: usize> Simulation<D> {
             obstacle_constraint_mass,
             obstacles: effects.obstacles,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{MaterialModel, YoungPoisson};
+    use crate::sim::Ground;
+
+    /// The validator's automatic stiffness is the one the simulation
+    /// computes, pinned vertices moving with their paths included (a path
+    /// faster than the body raises the kinetic energy the rule counts).
+    #[test]
+    fn the_automatic_ground_stiffness_is_the_simulations() {
+        let mesh = Mesh::axis_aligned_box(
+            Vector::<2>::new(0.0, 1.0),
+            Vector::<2>::new(1.0, 2.0),
+            [2, 2],
+        )
+        .unwrap();
+        let body = Body {
+            mesh,
+            material: MaterialModel::NeoHookean.with_lame(
+                YoungPoisson {
+                    young: 100.0,
+                    poisson: 0.3,
+                }
+                .into(),
+            ),
+            density: 2.0,
+            velocity: Vector::<2>::new(0.5, 0.0),
+            pinned: None,
+        };
+        let fast = PinMotion {
+            velocity: Vector::<2>::new(0.0, 30.0),
+            ..PinMotion::default()
+        };
+        let region = PinRegion::new(Vector::<2>::new(-1.0, 1.9), Vector::<2>::new(2.0, 3.0));
+        let effects = Effects {
+            gravity: Some(Vector::<2>::new(0.0, -9.81)),
+            ground: Some(Ground {
+                height: 0.0,
+                activation_distance: 0.1,
+                stiffness: None,
+                friction: 0.0,
+            }),
+            pinned: vec![region.moving(fast)],
+            ..Effects::default()
+        };
+        let still = Effects {
+            pinned: vec![region],
+            ..effects.clone()
+        };
+        let bodies = vec![body];
+        let automatic = automatic_ground_stiffness(&bodies, &effects).unwrap();
+        let sim = Simulation::with_bodies(bodies.clone(), effects, SimulationSettings::default())
+            .unwrap();
+        assert_eq!(automatic, sim.ground().unwrap().automatic_stiffness());
+        let at_rest = automatic_ground_stiffness(&bodies, &still).unwrap();
+        assert!(automatic > 2.0 * at_rest, "{automatic} vs {at_rest}");
+        assert_eq!(
+            automatic_ground_stiffness(&bodies, &Effects::default()),
+            None
+        );
     }
 }

@@ -1,21 +1,25 @@
 //! The validator's second stage, on the built meshes: each body's mesh is
 //! built here, once, and handed to the simulation, after the checks that
 //! need it: the masses against `dt²` times the stiffness, some vertex left
-//! free by the pinned regions together, and nothing starting in contact
+//! free by the pinned regions together, nothing starting in contact
 //! (crossing or closer than `d_hat`, or one collider inside another, asked
 //! of [`crate::sim::start_problem`] and reported at the key of the body or
-//! obstacle it names).
+//! obstacle it names), and a given ground stiffness against the automatic
+//! one ([`crate::sim::automatic_ground_stiffness`]).
 //!
 //! It runs after the first stage (`Scene::load`) and after the run checked
 //! that the meshes fit in this machine's memory, so nothing large is built
 //! for a scene that cannot run.
 
 use super::{SceneValidator, VResult};
+use crate::energy::GROUND_STIFFNESS_RATIO;
 use crate::math::Vector;
 use crate::mesh::Mesh;
 use crate::scene::scene_config::{BodyConfig, SceneConfig};
 use crate::scene::scene_error::{approx, num};
-use crate::sim::{Body, Collider, Effects, StartProblem, start_problem};
+use crate::sim::{
+    Body, Collider, Effects, StartProblem, automatic_ground_stiffness, start_problem,
+};
 
 /// The largest ratio of `dt²` times a vertex's elastic stiffness to its
 /// lumped mass that a scene may have. The first step's system matrix is
@@ -51,6 +55,7 @@ impl SceneValidator<'_, '_> {
         }
         self.something_free(&bodies, &config.effects)?;
         self.start_apart(&bodies, config)?;
+        self.ground_stiffness(&bodies, &config.effects)?;
         Ok(bodies)
     }
 
@@ -205,5 +210,36 @@ impl SceneValidator<'_, '_> {
             _ => "effects.contact".to_owned(),
         };
         Err(self.err(&key, problem.to_string()))
+    }
+
+    /// A ground stiffness given in the scene must lie within
+    /// [`GROUND_STIFFNESS_RATIO`] of the automatic one for these bodies.
+    fn ground_stiffness<const D: usize>(
+        &self,
+        bodies: &[Body<D>],
+        effects: &Effects<D>,
+    ) -> VResult<()> {
+        let Some(kappa) = effects.ground.and_then(|g| g.stiffness) else {
+            return Ok(());
+        };
+        let Some(automatic) = automatic_ground_stiffness(bodies, effects) else {
+            return Ok(());
+        };
+        let [low, high] = GROUND_STIFFNESS_RATIO.map(|r| r * automatic);
+        if kappa >= low && kappa <= high {
+            return Ok(());
+        }
+        Err(self.err(
+            "effects.ground.kappa",
+            format!(
+                "must lie in [{}, {}] for this scene, 1e-6 to 1e6 times the automatic \
+                 stiffness {} (stiffer, the body freezes at the barrier's edge; softer, it \
+                 comes within round-off of the ground); got {}",
+                approx(low),
+                approx(high),
+                approx(automatic),
+                num(kappa)
+            ),
+        ))
     }
 }
