@@ -21,8 +21,8 @@ pub enum AppError {
         /// What is wrong.
         reason: String,
     },
-    /// The simulation rejected the scene before stepping (exit 2), or
-    /// setting up its solver failed (exit 1).
+    /// Setting up the simulation's solver failed (exit 1): the scene was
+    /// valid (the validator refuses bad input before this, exit 2).
     #[error("cannot set up scene `{scene}`")]
     Setup {
         /// Scene name.
@@ -128,11 +128,9 @@ impl AppError {
     pub fn exit_code(&self) -> i32 {
         match self {
             AppError::Sweep(error) => error.exit_code(),
-            AppError::Setup { source, .. } if !source.is_bad_input() => 1,
             AppError::Scene(_)
             | AppError::Flag { .. }
             | AppError::Environment { .. }
-            | AppError::Setup { .. }
             | AppError::Video { .. } => 2,
             AppError::Compare(CompareError::Write { .. }) => 1,
             AppError::Compare(_) => 2,
@@ -145,6 +143,7 @@ impl AppError {
             ) => 2,
             AppError::Output(OutputError::Io { .. }) => 1,
             AppError::Simulation { .. }
+            | AppError::Setup { .. }
             | AppError::Unhealthy { .. }
             | AppError::Render(_)
             | AppError::FramesDiffer { .. }
@@ -163,7 +162,7 @@ mod tests {
     /// A failure of the solver's setup (the symbolic factorisation) is a
     /// failure while working (exit 1), not bad input (exit 2).
     #[test]
-    fn a_solver_setup_failure_exits_1_and_bad_settings_exit_2() {
+    fn a_solver_setup_failure_exits_1() {
         let setup = |source| AppError::Setup {
             scene: "s".into(),
             source,
@@ -173,10 +172,5 @@ mod tests {
         });
         assert_eq!(failure.exit_code(), 1);
         assert!(!failure.to_string().contains("step 0"));
-        let bad = setup(SimError::InvalidSetting {
-            key: "density",
-            reason: "must be positive".into(),
-        });
-        assert_eq!(bad.exit_code(), 2);
     }
 }

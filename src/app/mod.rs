@@ -1,9 +1,11 @@
 //! The commands: `run`, `scenes`, `check`, `compare`, `sweep` and `study`, from parsed flags to outputs.
 //!
 //! [`run`] is what `main` calls. Every command first turns its flags and the
-//! scene into validated settings, then checks what the run needs against
-//! this machine and the built simulation (`preflight.rs`: memory, the
-//! adapter's image size, the starting energy, the barrier stiffness) — bad
+//! scene into validated settings (the scene validator: every value, at its
+//! key), then checks what the run needs against this machine
+//! (`preflight.rs`: memory, the adapter's image size), has the validator
+//! mesh the bodies and check them as a whole, and checks what only the
+//! built simulation knows (`preflight.rs`: the starting energy) — bad
 //! input, [`AppError::exit_code`] 2 — and only then starts work (failures:
 //! exit code 1). A finished run reports what went wrong without stopping it
 //! in its [`RunHealth`] summary.
@@ -34,7 +36,7 @@ pub use progress::{Progress, ProgressMode};
 pub use run_health::RunHealth;
 
 use crate::scene::{SceneConfig, SceneError, SceneOverride};
-use crate::sim::{Body, SimError, Simulation};
+use crate::sim::Simulation;
 use preflight::SceneInput;
 
 /// Runs one command.
@@ -95,71 +97,24 @@ fn shortcut_overrides(
     Ok(overrides)
 }
 
-/// Builds a scene's mesh and simulation (no steps taken), after checking
-/// that it fits in memory, and checks what only the built meshes and
-/// simulation know: masses not lost beside the stiffness, the barrier
-/// stiffness against the automatic one and a finite starting energy. Every problem is a scene error at its key.
+/// Builds a scene's meshes and simulation (no steps taken): first checks
+/// that it fits in memory, then has the validator mesh the bodies and check
+/// them as a whole (its second stage, [`SceneConfig::meshed_bodies`]), and
+/// after building checks what only the simulation knows: a finite starting
+/// energy. Every
+/// problem is a scene error at its key; the simulation itself fails only in
+/// setting up its solver.
 fn build_simulation<const D: usize>(
     config: &SceneConfig<D>,
     input: SceneInput,
 ) -> Result<Simulation<D>, AppError> {
     preflight::check_simulation_memory(config, input)?;
-    let mut bodies = Vec::with_capacity(config.bodies.len());
-    for body in &config.bodies {
-        let mesh = body.mesh.build().map_err(|source| {
-            input.error(
-                &format!("{}mesh", body.key_prefix),
-                format!("cannot be meshed: {source}"),
-            )
-        })?;
-        preflight::check_mass_against_stiffness(config, body, &mesh, input)?;
-        bodies.push(Body {
-            mesh,
-            material: body.material.material,
-            density: body.material.density,
-            velocity: body.initial_velocity,
-            pinned: body.pinned,
-        });
-    }
+    let bodies = config.meshed_bodies(input.source, input.overrides)?;
     let sim = Simulation::with_bodies(bodies, config.effects.clone(), config.simulation_settings())
-        .map_err(|source| setup_error(config, input, source))?;
-    preflight::check_starting_energy(config, &sim, input)?;
-    preflight::check_barrier_stiffness(config, &sim, input)?;
-    Ok(sim)
-}
-
-/// A setting the simulation refuses, at its scene key when it has one
-/// (validation rejects these first; this keeps the message located).
-fn setup_error<const D: usize>(
-    config: &SceneConfig<D>,
-    input: SceneInput,
-    source: SimError,
-) -> AppError {
-    let key = match &source {
-        SimError::InvalidSetting { key, .. } => match *key {
-            "density" if config.bodies.len() > 1 => Some("bodies"),
-            "pinned" if config.bodies.len() > 1 => Some("bodies"),
-            "density" => Some("material.density"),
-            "dt" => Some("time.dt"),
-            "tolerance" | "max_iterations" | "step" => Some("solver"),
-            "pinned" => Some("effects.pinned"),
-            "a" | "kappa" => Some("effects.ground"),
-            "contact" => Some("effects.contact"),
-            "obstacles" => Some("obstacles"),
-            _ => None,
-        },
-        SimError::BelowGround { .. } if config.bodies.len() > 1 => Some("bodies"),
-        SimError::BelowGround { .. } => Some("mesh.offset"),
-        SimError::ContactAtStart { bodies, .. } if bodies.contains("obstacle") => Some("obstacles"),
-        SimError::ContactAtStart { .. } => Some("effects.contact"),
-        SimError::BodyInsideBody { .. } => Some("bodies"),
-        _ => None,
-    };
-    match key {
-        Some(key) => input.error(key, source.to_string()),
-        None => AppError::Setup {
+        .map_err(|source| AppError::Setup {
             scene: config.name.clone(),
             source,
-        },
-    }
+        })?;
+    preflight::check_starting_energy(config, &sim, input)?;
+    Ok(sim)
 }

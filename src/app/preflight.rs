@@ -1,14 +1,12 @@
-//! Checks made after the scene is validated and before any work or file:
-//! what the run will allocate against this machine's memory, the image size
-//! against the graphics adapter, the masses against `dt²` times the
-//! stiffness, the starting energy, and the barrier stiffness against the
-//! automatic one. Each failure is a scene error at
-//! its key (exit code 2).
+//! Checks made after the scene is validated and before any work or file,
+//! of what the scene validator cannot know: what the run will allocate
+//! against this machine's memory (before any mesh is built), the image size
+//! against the graphics adapter, and the starting energy of the built
+//! simulation. Each failure is a scene error at its key (exit code 2).
 
 use super::AppError;
-use crate::energy::GROUND_STIFFNESS_RATIO;
 use crate::render::RenderSettings;
-use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource, approx, image_bytes, num};
+use crate::scene::{Scene, SceneConfig, SceneOverride, SceneSource, approx, image_bytes};
 use crate::sim::Simulation;
 
 /// A scene's source and overrides, to report a problem at its key.
@@ -164,136 +162,6 @@ pub(crate) fn check_image_size(
         Some(reason) => Err(input.error("render.resolution", reason)),
         None => Ok(()),
     }
-}
-
-/// A stiffness given in the scene must lie within [`GROUND_STIFFNESS_RATIO`]
-/// of the automatic one for this body.
-pub(crate) fn check_barrier_stiffness<const D: usize>(
-    config: &SceneConfig<D>,
-    sim: &Simulation<D>,
-    input: SceneInput,
-) -> Result<(), AppError> {
-    let Some(kappa) = config.effects.ground.and_then(|g| g.stiffness) else {
-        return Ok(());
-    };
-    let Some(automatic) = sim.ground().map(|g| g.automatic_stiffness()) else {
-        return Ok(());
-    };
-    let [low, high] = GROUND_STIFFNESS_RATIO.map(|r| r * automatic);
-    if !(kappa >= low && kappa <= high) {
-        return Err(input.error(
-            "effects.ground.kappa",
-            format!(
-                "must lie in [{}, {}] for this scene, 1e-6 to 1e6 times the automatic \
-                 stiffness {} (stiffer, the body freezes at the barrier's edge; softer, it \
-                 comes within round-off of the ground); got {}",
-                approx(low),
-                approx(high),
-                approx(automatic),
-                num(kappa)
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// The largest ratio of `dt²` times a vertex's elastic stiffness to its
-/// lumped mass that a scene may have. The first step's system matrix is
-/// `M + dt² K`: beyond about 1e15 the masses are below the round-off of the
-/// stiffness in double precision and the matrix is singular (a free body's
-/// rigid motions are carried by `M` alone); well before that, at 1e12 and
-/// up, the round-off of the elastic forces (`1e-16 × K x`) outweighs gravity
-/// and inertia and Newton stalls at its iteration cap (measured: Neo-Hookean
-/// fails from about 1e13 on the report's box, where `young = 1e16`). The
-/// shipped scenes reach at most 1e4 (see docs/scene-reference.md).
-pub(crate) const MAX_STIFFNESS_TO_MASS: f64 = 1e12;
-
-/// A body's masses must not be lost beside its stiffness in the first
-/// step's system: for every vertex, `dt² k / m` at most
-/// [`MAX_STIFFNESS_TO_MASS`], where `k = Σ (λ + 2μ) V |∇N|²` over its
-/// elements (the diagonal of the linear-elastic stiffness at rest, `∇N` the
-/// gradient of the vertex's shape function) and `m` its lumped mass.
-pub(crate) fn check_mass_against_stiffness<const D: usize>(
-    config: &SceneConfig<D>,
-    body: &crate::scene::BodyConfig<D>,
-    mesh: &crate::mesh::Mesh<D>,
-    input: SceneInput,
-) -> Result<(), AppError> {
-    let material = &body.material.material;
-    let (mu, lambda) = (
-        material.parameter("mu").unwrap_or(0.0),
-        material.parameter("lambda").unwrap_or(0.0),
-    );
-    let modulus = lambda + 2.0 * mu;
-    let density = body.material.density;
-    let dt = config.time.dt;
-    let mut stiffness = vec![0.0; mesh.vertex_count()];
-    for (simplex, rest) in mesh.simplices().zip(mesh.rest_elements()) {
-        let mut first = crate::math::Vector::<D>::zeros();
-        for (j, &vertex) in simplex.iter().enumerate().skip(1) {
-            let gradient = rest.dm_inv.row(j - 1).transpose();
-            first -= gradient;
-            stiffness[vertex] += modulus * rest.volume * gradient.norm_squared();
-        }
-        stiffness[simplex[0]] += modulus * rest.volume * first.norm_squared();
-    }
-    let masses = mesh.lumped_masses(density);
-    let (vertex, ratio) = stiffness
-        .iter()
-        .zip(&masses)
-        .map(|(k, m)| dt * dt * k / m)
-        .enumerate()
-        .fold((0, 0.0), |worst, (v, r)| {
-            if r > worst.1 || r.is_nan() {
-                (v, r)
-            } else {
-                worst
-            }
-        });
-    if ratio <= MAX_STIFFNESS_TO_MASS {
-        return Ok(());
-    }
-    let prefix = &body.key_prefix;
-    // Named at the key the user changed last, when it is one of these.
-    let candidates = [
-        format!("{prefix}material.young"),
-        format!("{prefix}material.density"),
-        format!("{prefix}material.mu"),
-        format!("{prefix}material.lambda"),
-        "time.dt".to_owned(),
-        "time.substeps".to_owned(),
-        "time.fps".to_owned(),
-    ];
-    let key = input
-        .overrides
-        .iter()
-        .rev()
-        .map(|o| o.key())
-        .find(|key| candidates.contains(key))
-        .unwrap_or_else(|| candidates[0].clone());
-    let shrink = MAX_STIFFNESS_TO_MASS / ratio;
-    Err(input.error(
-        &key,
-        format!(
-            "the masses are lost beside the stiffness: dt² (λ + 2μ) / mass reaches {} at \
-             vertex {vertex} of {}(λ + 2μ = {}, density {}, dt = {} s), more than the {} up to \
-             which the first step's system holds the masses in double precision; lower the \
-             stiffness or raise the density by a factor of at least {}, or take a step of at \
-             most {} s (more time.substeps)",
-            approx(ratio),
-            if prefix.is_empty() {
-                "the body ".to_owned()
-            } else {
-                format!("{} ", prefix.trim_end_matches('.'))
-            },
-            approx(modulus),
-            num(density),
-            approx(dt),
-            num(MAX_STIFFNESS_TO_MASS),
-            approx(1.0 / shrink),
-            approx(dt * shrink.sqrt()),
-        ),
-    ))
 }
 
 /// Every term of the incremental potential must be finite at the start,

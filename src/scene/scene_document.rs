@@ -134,6 +134,11 @@ impl<'a> SceneDocument<'a> {
         self.source
     }
 
+    /// The overrides applied, in order.
+    pub fn overrides(&self) -> &[SceneOverride] {
+        self.overrides
+    }
+
     fn origin_of(&self, span: &Range<usize>) -> Origin {
         let base = self.source.text.len() + 1;
         if span.start >= base {

@@ -1,11 +1,13 @@
 //! Loading a scene: the file (or built-in text) parsed with the `--set`
 //! overrides applied, then validated into a [`Scene`], the only way a
-//! [`Scene`] is made. Apart from the settings' types (`scene_config.rs`) so
+//! [`Scene`] is made; and its bodies meshed and checked as a whole
+//! ([`SceneConfig::meshed_bodies`]), the only way a run gets them. Apart from the settings' types (`scene_config.rs`) so
 //! that they do not import the validator that builds them.
 
 use super::scene_document::SceneDocument;
 use super::scene_validator::SceneValidator;
-use super::{Scene, SceneError, SceneOverride, SceneSource};
+use super::{Scene, SceneConfig, SceneError, SceneOverride, SceneSource};
+use crate::sim::Body;
 
 impl Scene {
     /// Parses `source`, applies `overrides` and validates the result.
@@ -41,5 +43,24 @@ impl Scene {
             Ok(document) => document.error(key, reason),
             Err(error) => error,
         }
+    }
+}
+
+impl<const D: usize> SceneConfig<D> {
+    /// The bodies of this scene (loaded from `source` with `overrides`)
+    /// with their meshes built, as [`Simulation::with_bodies`] takes them:
+    /// the validator's second stage, refusing at its key a body whose
+    /// masses are lost beside its stiffness, pinned regions that hold every
+    /// vertex together, and bodies or obstacles that start in contact.
+    /// Call it after checking that the meshes fit in memory.
+    ///
+    /// [`Simulation::with_bodies`]: crate::sim::Simulation::with_bodies
+    pub fn meshed_bodies(
+        &self,
+        source: &SceneSource,
+        overrides: &[SceneOverride],
+    ) -> Result<Vec<Body<D>>, SceneError> {
+        let document = SceneDocument::parse(source, overrides)?;
+        SceneValidator::new(&document).meshed_bodies(self)
     }
 }

@@ -5,6 +5,15 @@
 //! It is the only code that reads [`RawScene`]; it returns the typed scene
 //! together with the resolved raw form (every default written out), which is
 //! what `scene.toml` of a run holds.
+//!
+//! Every check a scene value can fail is made here, once, at the key it
+//! concerns; the simulation trusts the result. It works in two stages: the
+//! settings (`Scene::load`: every section, mesh files read once), and,
+//! when a run is about to start and its memory was checked, the bodies'
+//! meshes built and checked as a whole (`meshed_bodies.rs`:
+//! [`SceneConfig::meshed_bodies`]). Only what needs the built simulation
+//! (its starting energy) or the machine is checked after, by the commands'
+//! preflight.
 
 use super::SceneError;
 use super::folder_name::folder_name_problem;
@@ -27,6 +36,7 @@ type VResult<T> = std::result::Result<T, SceneError>;
 mod bodies;
 mod effects;
 mod mesh;
+mod meshed_bodies;
 mod obstacles;
 mod render;
 mod time_solver;

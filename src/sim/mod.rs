@@ -21,9 +21,10 @@
 //! Files: `simulation.rs` (the state and its measures), `body.rs` (one body
 //! of a scene), `pin_region.rs` (a pinned region and its rigid path),
 //! `simulation_setup.rs` (joining the bodies' meshes and
-//! building the list of terms from the scene's effects), `contact_setup.rs`
-//! (the ground, contact and friction terms, refused when the scene starts
-//! in contact), `effects.rs`, `obstacle.rs` (a surface bodies collide with,
+//! building the list of terms from the scene's effects, trusting the
+//! validated scene), `contact_setup.rs` (the ground, contact and friction
+//! terms), `start_problem.rs` (whether the bodies and obstacles start
+//! apart: asked once by the scene validator), `effects.rs`, `obstacle.rs` (a surface bodies collide with,
 //! moved along a rigid path),
 //! `stepping.rs` (one step, one frame), `energy_guard.rs` (a Newmark step
 //! that would gain energy is taken again damped), `stats.rs` (what a step reports),
@@ -38,6 +39,7 @@ mod pin_region;
 mod sim_error;
 mod simulation;
 mod simulation_setup;
+mod start_problem;
 mod stats;
 mod stepping;
 
@@ -48,6 +50,8 @@ pub use obstacle::Obstacle;
 pub use pin_region::{PinMotion, PinRegion, rotate};
 pub use sim_error::SimError;
 pub use simulation::Simulation;
+pub use simulation_setup::automatic_ground_stiffness;
+pub use start_problem::{Collider, StartProblem, start_problem};
 pub use stats::{ContactStats, EnergyBreakdown, FrameStats, StepStats};
 
 use crate::integrator::IntegratorKind;

@@ -1,4 +1,11 @@
-//! Building a simulation: checking the settings, eliminating pinned vertices, and making the list of energy terms the scene's effects ask for.
+//! Building a simulation: joining the bodies' meshes, eliminating pinned vertices, and making the list of energy terms the scene's effects ask for.
+//!
+//! The input is trusted: the scene validator has checked every setting at
+//! its key, and on the built meshes that the pinned regions hold vertices
+//! but not all of them and that nothing starts on the ground or in contact
+//! ([`super::start_problem`]). A value out of range here is a programming
+//! error (a `debug_assert!`), and the [`SimError`] returned is a genuine
+//! setup failure (the sparse analysis).
 //!
 //! Elasticity is always a term; gravity and the ground barrier exist only
 //! when the scene asks for them (an absent effect has no term, so it costs
@@ -11,21 +18,71 @@
 
 use super::contact_setup::{Colliding, contact_barrier, friction_term, ground_barrier};
 use super::simulation::PinnedVertex;
+use super::start_problem::joined_mesh;
 use super::{Body, Effects, PinMotion, PinRegion, SimError, Simulation, SimulationSettings};
 use crate::assembly::SparseHessian;
 use crate::contact::ObstacleSurface;
-use crate::energy::{BodyElasticity, EnergyTerm, Gravity, Inertia};
+use crate::energy::{BodyElasticity, EnergyTerm, Gravity, GroundBarrier, Inertia};
 use crate::material::Material;
 use crate::math::Vector;
 use crate::mesh::Mesh;
-use crate::solver::SolverMethod;
 use std::sync::Arc;
 
-fn invalid(key: &'static str, reason: impl Into<String>) -> SimError {
-    SimError::InvalidSetting {
-        key,
-        reason: reason.into(),
+/// Which pinned region holds a body's vertex at rest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Holder {
+    /// `effects.pinned[i]`.
+    Effect(usize),
+    /// The body's own region.
+    Own,
+}
+
+/// The region that holds the vertex at rest position `x` of a body pinned
+/// by `own`: the first of the effects' `regions` that contains it, else the
+/// body's own; `None` for a free vertex.
+fn holder<const D: usize>(
+    regions: &[PinRegion<D>],
+    own: Option<PinRegion<D>>,
+    x: &Vector<D>,
+) -> Option<Holder> {
+    match regions.iter().position(|r| r.contains(x)) {
+        Some(i) => Some(Holder::Effect(i)),
+        None => own.filter(|r| r.contains(x)).map(|_| Holder::Own),
     }
+}
+
+/// The stiffness the ground's default rule gives `bodies` under `effects`,
+/// as [`Simulation::with_bodies`] computes it for them (at rest, pinned
+/// vertices moving with their paths); `None` without a ground. The scene
+/// validator holds a given `effects.ground.kappa` against it.
+pub fn automatic_ground_stiffness<const D: usize>(
+    bodies: &[Body<D>],
+    effects: &Effects<D>,
+) -> Option<f64> {
+    let ground = effects.ground?;
+    let mut masses = Vec::new();
+    let mut positions = Vec::new();
+    let mut velocities = Vec::new();
+    for body in bodies {
+        masses.extend(body.mesh.lumped_masses(body.density));
+        for x in body.mesh.rest_positions() {
+            let motion = match holder(&effects.pinned, body.pinned, x) {
+                Some(Holder::Effect(i)) => Some(effects.pinned[i].motion),
+                Some(Holder::Own) => body.pinned.map(|r| r.motion),
+                None => None,
+            };
+            positions.push(*x);
+            velocities.push(motion.map_or(body.velocity, |m| m.velocity_of(x, 0.0)));
+        }
+    }
+    Some(GroundBarrier::default_stiffness(
+        ground.height,
+        ground.activation_distance,
+        &masses,
+        &positions,
+        &velocities,
+        effects.gravity,
+    ))
 }
 
 /// `a_0 = -M^{-1} grad U(x_0)` on free vertices, zero on pinned ones: the
@@ -78,87 +135,31 @@ impl<const D: usize> Simulation<D> {
     /// (vertices and elements in body order) into the simulation's mesh;
     /// each has its material, density, initial velocity and pinned region,
     /// and all share the effects (which pin vertices of any body).
+    ///
+    /// The input is trusted, as the scene validator hands it over
+    /// ([`crate::scene::SceneConfig::meshed_bodies`]): settings in range,
+    /// pinned regions that hold some vertex but leave one free, nothing on
+    /// or below the ground, and nothing in contact at the start
+    /// ([`super::start_problem`]). The error is a failure of setting up the
+    /// solver.
     pub fn with_bodies(
         bodies: Vec<Body<D>>,
         effects: Effects<D>,
         settings: SimulationSettings,
     ) -> Result<Self, SimError> {
-        if bodies.is_empty() {
-            return Err(invalid("bodies", "a simulation needs at least one body"));
-        }
-        for body in &bodies {
-            let density = body.density;
-            if !(density > 0.0 && density.is_finite()) {
-                return Err(invalid(
-                    "density",
-                    format!("must be positive and finite, got {density}"),
-                ));
-            }
-        }
-        if !(settings.dt > 0.0 && settings.dt.is_finite()) {
-            return Err(invalid(
-                "dt",
-                format!("must be positive and finite, got {}", settings.dt),
-            ));
-        }
-        if !(settings.solver.tolerance > 0.0) {
-            return Err(invalid(
-                "tolerance",
-                format!("must be positive, got {}", settings.solver.tolerance),
-            ));
-        }
-        if settings.solver.max_iterations == 0 {
-            return Err(invalid("max_iterations", "must be at least 1"));
-        }
-        if let SolverMethod::GradientDescent { step } = settings.solver.method
-            && !(step > 0.0 && step.is_finite())
-        {
-            return Err(invalid(
-                "step",
-                format!("must be positive and finite, got {step}"),
-            ));
-        }
-        if settings.solver.friction_iterations == 0 {
-            return Err(invalid("friction_iterations", "must be at least 1"));
-        }
-        if let Some(v) = settings.solver.friction_velocity
-            && !(v > 0.0 && v.is_finite())
-        {
-            return Err(invalid(
-                "friction_velocity",
-                format!("must be positive and finite, got {v}"),
-            ));
-        }
-        for (label, region) in pin_labels(&effects, &bodies) {
-            check_motion(&label, &region.motion)?;
-        }
+        debug_assert!(!bodies.is_empty(), "a simulation needs at least one body");
+        debug_assert!(
+            settings.dt > 0.0 && settings.solver.tolerance > 0.0,
+            "the scene validator refuses a step or tolerance that is not positive"
+        );
         // Per vertex: its body's index; masses and rest positions in body order.
         let mut owner = Vec::new();
         let mut masses = Vec::new();
         let mut positions = Vec::new();
-        let mut simplices = Vec::new();
         for (b, body) in bodies.iter().enumerate() {
-            let offset = positions.len();
-            if let Some(region) = &body.pinned
-                && !body
-                    .mesh
-                    .rest_positions()
-                    .iter()
-                    .any(|x| region.contains(x))
-            {
-                return Err(invalid(
-                    "pinned",
-                    format!("the pinned region of body {b} holds no vertex of it"),
-                ));
-            }
             owner.extend(std::iter::repeat_n(b, body.mesh.vertex_count()));
             masses.extend(body.mesh.lumped_masses(body.density));
             positions.extend_from_slice(body.mesh.rest_positions());
-            simplices.extend(
-                body.mesh
-                    .simplices()
-                    .map(|s| s.iter().map(|v| v + offset).collect::<Vec<_>>()),
-            );
         }
         let body_vertices = positions.len();
         let pins: Vec<Option<PinRegion<D>>> = bodies.iter().map(|b| b.pinned).collect();
@@ -170,11 +171,7 @@ impl<const D: usize> Simulation<D> {
             let elasticity = BodyElasticity::single(mesh.clone(), body.material);
             (mesh, elasticity)
         } else {
-            let mesh = Arc::new(Mesh::new(positions.clone(), simplices).map_err(|e| {
-                SimError::SetupFailure {
-                    reason: e.to_string(),
-                }
-            })?);
+            let mesh = Arc::new(joined_mesh(&bodies)?.into_owned());
             let parts = bodies
                 .iter()
                 .map(|b| (Arc::new(b.mesh.clone()), b.material))
@@ -196,25 +193,11 @@ impl<const D: usize> Simulation<D> {
             })
             .collect();
         // A vertex follows the first region (in that order) that holds it at rest.
-        let motion_of = |v: usize, x: &Vector<D>| {
-            effects
-                .pinned
-                .iter()
-                .position(|r| r.contains(x))
-                .or_else(|| {
-                    body_motion[owner[v]].filter(|_| pins[owner[v]].is_some_and(|r| r.contains(x)))
-                })
-        };
-        if let Some(i) = effects
-            .pinned
-            .iter()
-            .position(|r| !positions.iter().any(|x| r.contains(x)))
+        let motion_of = |v: usize, x: &Vector<D>| match holder(&effects.pinned, pins[owner[v]], x)?
         {
-            return Err(invalid(
-                "pinned",
-                format!("the pinned region effects.pinned[{i}] holds no vertex"),
-            ));
-        }
+            Holder::Effect(i) => Some(i),
+            Holder::Own => body_motion[owner[v]],
+        };
         let mut free_count = 0;
         let mut pinned = Vec::new();
         let free_index: Vec<Option<usize>> = positions
@@ -235,12 +218,10 @@ impl<const D: usize> Simulation<D> {
                 }
             })
             .collect();
-        if free_count == 0 {
-            return Err(invalid(
-                "pinned",
-                "every vertex is pinned: nothing can move",
-            ));
-        }
+        debug_assert!(
+            free_count > 0,
+            "the validator refuses a scene with every vertex pinned"
+        );
         // Free vertices start with their body's velocity, pinned ones with
         // their path's.
         let mut velocities: Vec<Vector<D>> = (0..positions.len())
@@ -249,21 +230,16 @@ impl<const D: usize> Simulation<D> {
         // The obstacles' points after the bodies' vertices, each pinned to
         // its obstacle's path, massless.
         let mut free_index = free_index;
-        if !effects.obstacles.is_empty() && effects.contact.is_none() {
-            return Err(invalid(
-                "obstacles",
-                "obstacles take part in contact: the scene needs [effects.contact]",
-            ));
-        }
+        debug_assert!(
+            effects.obstacles.is_empty() || effects.contact.is_some(),
+            "obstacles take part in contact: the validator asks for [effects.contact]"
+        );
         let mut obstacle_surfaces = Vec::with_capacity(effects.obstacles.len());
         for (k, obstacle) in effects.obstacles.iter().enumerate() {
-            check_motion(&format!("obstacles[{k}]"), &obstacle.motion)?;
-            if obstacle.motion.release.is_some() {
-                return Err(invalid(
-                    "obstacles",
-                    format!("obstacles[{k}]: an obstacle cannot be released"),
-                ));
-            }
+            debug_assert!(
+                obstacle.motion.release.is_none(),
+                "an obstacle is never released"
+            );
             motions.push(obstacle.motion);
             let offset = positions.len();
             for x in obstacle.surface.points() {
@@ -299,7 +275,7 @@ impl<const D: usize> Simulation<D> {
                 &positions[..n],
                 &velocities[..n],
                 effects.gravity,
-            )?),
+            )),
             None => None,
         };
         let contact = match effects.contact {
@@ -307,7 +283,6 @@ impl<const D: usize> Simulation<D> {
                 let colliding = Colliding {
                     mesh: &mesh,
                     owner: &owner,
-                    body_count,
                     obstacles: obstacle_surfaces,
                 };
                 Some(contact_barrier(
@@ -316,11 +291,11 @@ impl<const D: usize> Simulation<D> {
                     &positions,
                     n,
                     contact,
-                )?)
+                ))
             }
             None => None,
         };
-        let friction = friction_term(&effects, &positions[..n], settings.solver.friction_velocity)?;
+        let friction = friction_term(&effects, &positions[..n], settings.solver.friction_velocity);
         let hessian = SparseHessian::with_unattached_vertices(&mesh, &positions[n..], free_index)
             .map_err(|e| SimError::SetupFailure {
             reason: e.to_string(),
@@ -371,60 +346,66 @@ impl<const D: usize> Simulation<D> {
     }
 }
 
-/// Each pinned region with its name for messages: `effects.pinned[i]`, then
-/// `the pinned region of body b`.
-fn pin_labels<const D: usize>(
-    effects: &Effects<D>,
-    bodies: &[Body<D>],
-) -> Vec<(String, PinRegion<D>)> {
-    let own = effects
-        .pinned
-        .iter()
-        .enumerate()
-        .map(|(i, r)| (format!("effects.pinned[{i}]"), *r));
-    let of_bodies = bodies.iter().enumerate().filter_map(|(b, body)| {
-        body.pinned
-            .map(|r| (format!("the pinned region of body {b}"), r))
-    });
-    own.chain(of_bodies).collect()
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::{MaterialModel, YoungPoisson};
+    use crate::sim::Ground;
 
-/// A motion's numbers must be finite, its axis a unit vector, `until >= 0`
-/// and `release > 0`.
-fn check_motion<const D: usize>(label: &str, motion: &PinMotion<D>) -> Result<(), SimError> {
-    let finite = motion.velocity.iter().all(|v| v.is_finite())
-        && motion.angular_velocity.is_finite()
-        && motion.center.iter().all(|v| v.is_finite());
-    if !finite {
-        return Err(invalid(
-            "pinned",
-            format!("{label}: velocity, angular velocity and centre must be finite"),
-        ));
-    }
-    if D == 3 && motion.angular_velocity != 0.0 && (motion.axis.norm() - 1.0).abs() > 1e-12 {
-        return Err(invalid(
-            "pinned",
-            format!(
-                "{label}: the rotation axis must be a unit vector, got {:?}",
-                motion.axis.as_slice()
+    /// The validator's automatic stiffness is the one the simulation
+    /// computes, pinned vertices moving with their paths included (a path
+    /// faster than the body raises the kinetic energy the rule counts).
+    #[test]
+    fn the_automatic_ground_stiffness_is_the_simulations() {
+        let mesh = Mesh::axis_aligned_box(
+            Vector::<2>::new(0.0, 1.0),
+            Vector::<2>::new(1.0, 2.0),
+            [2, 2],
+        )
+        .unwrap();
+        let body = Body {
+            mesh,
+            material: MaterialModel::NeoHookean.with_lame(
+                YoungPoisson {
+                    young: 100.0,
+                    poisson: 0.3,
+                }
+                .into(),
             ),
-        ));
+            density: 2.0,
+            velocity: Vector::<2>::new(0.5, 0.0),
+            pinned: None,
+        };
+        let fast = PinMotion {
+            velocity: Vector::<2>::new(0.0, 30.0),
+            ..PinMotion::default()
+        };
+        let region = PinRegion::new(Vector::<2>::new(-1.0, 1.9), Vector::<2>::new(2.0, 3.0));
+        let effects = Effects {
+            gravity: Some(Vector::<2>::new(0.0, -9.81)),
+            ground: Some(Ground {
+                height: 0.0,
+                activation_distance: 0.1,
+                stiffness: None,
+                friction: 0.0,
+            }),
+            pinned: vec![region.moving(fast)],
+            ..Effects::default()
+        };
+        let still = Effects {
+            pinned: vec![region],
+            ..effects.clone()
+        };
+        let bodies = vec![body];
+        let automatic = automatic_ground_stiffness(&bodies, &effects).unwrap();
+        let sim = Simulation::with_bodies(bodies.clone(), effects, SimulationSettings::default())
+            .unwrap();
+        assert_eq!(automatic, sim.ground().unwrap().automatic_stiffness());
+        let at_rest = automatic_ground_stiffness(&bodies, &still).unwrap();
+        assert!(automatic > 2.0 * at_rest, "{automatic} vs {at_rest}");
+        assert_eq!(
+            automatic_ground_stiffness(&bodies, &Effects::default()),
+            None
+        );
     }
-    if let Some(until) = motion.until
-        && !(until >= 0.0 && until.is_finite())
-    {
-        return Err(invalid(
-            "pinned",
-            format!("{label}: `until` must be a finite time >= 0, got {until}"),
-        ));
-    }
-    if let Some(release) = motion.release
-        && !(release > 0.0 && release.is_finite())
-    {
-        return Err(invalid(
-            "pinned",
-            format!("{label}: `release` must be a finite time > 0, got {release}"),
-        ));
-    }
-    Ok(())
 }

@@ -249,8 +249,10 @@ fn bodies_that_start_intersecting_are_refused_naming_both() {
             let o = elasto(dir.path(), &args);
             assert_code(&o, 2);
             let message = stderr(&o);
-            assert!(message.contains("effects.contact"), "{message}");
-            assert!(message.contains("body 0 and body 1"), "{message}");
+            assert!(
+                message.contains("`effects.contact`: body 0 and body 1"),
+                "{message}"
+            );
             assert!(
                 message.contains("closer than the contact distance"),
                 "{message}"
@@ -299,8 +301,10 @@ fn a_body_that_starts_inside_another_is_refused_naming_both() {
             let o = elasto(dir.path(), &args);
             assert_code(&o, 2);
             let message = stderr(&o);
-            assert!(message.contains("bodies"), "{message}");
-            assert!(message.contains("body 1 starts inside body 0"), "{message}");
+            assert!(
+                message.contains("`bodies[1]`: body 1 starts inside body 0"),
+                "{message}"
+            );
         }
         // Without contact the same scene runs (bodies pass through).
         let without = scene.replace("[effects.contact]\ndistance = 0.005\n", "");
@@ -311,6 +315,44 @@ fn a_body_that_starts_inside_another_is_refused_naming_both() {
             "a refused run wrote its folder"
         );
     }
+}
+
+/// A mesh file whose own surface crosses itself (two overlapping triangles
+/// of one body) is refused at the body's `mesh` under self-contact, by the
+/// validator on the built mesh; with `self = false` it is accepted.
+#[test]
+fn a_mesh_whose_surface_crosses_itself_is_refused_at_its_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("cross.node"),
+        "6 2 0 0\n1 0 0\n2 1 0\n3 0 1\n4 0.2 0.2\n5 1.2 0.2\n6 0.2 1.2\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("cross.ele"), "2 3 0\n1 1 2 3\n2 4 5 6\n").unwrap();
+    let scene = "dimension = 2\n\n[mesh]\ngenerator = \"file\"\npath = \"cross.node\"\n\n\
+                 [material]\nmodel = \"neo-hookean\"\nyoung = 100.0\npoisson = 0.3\n\n\
+                 [effects.contact]\ndistance = 0.001\n";
+    std::fs::write(dir.path().join("cross.toml"), scene).unwrap();
+    for args in [
+        vec!["check", "cross.toml"],
+        vec!["run", "cross.toml", "--no-render"],
+    ] {
+        let o = elasto(dir.path(), &args);
+        assert_code(&o, 2);
+        let message = stderr(&o);
+        assert!(message.contains("cross.toml:3:1: `mesh`"), "{message}");
+        assert!(
+            message.contains("parts of body 0 (its surface self-intersects or folds within d_hat)"),
+            "{message}"
+        );
+    }
+    assert!(
+        !dir.path().join("out").exists(),
+        "a refused run wrote its folder"
+    );
+    let without_self = scene.replace("distance = 0.001\n", "distance = 0.001\nself = false\n");
+    std::fs::write(dir.path().join("cross.toml"), without_self).unwrap();
+    assert_code(&elasto(dir.path(), &["check", "cross.toml"]), 0);
 }
 
 /// Runs a scene of the repository (a path under `scenes/`) with `extra`

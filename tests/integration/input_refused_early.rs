@@ -353,6 +353,17 @@ mod regression_bad_input_caught_late {
                 "effects.pinned={min=[-1, -1], max=[2, 20]}",
                 &["`effects.pinned`", "every mesh vertex"],
             ),
+            // Two regions that each leave vertices free but hold all of
+            // them together (the validator's second stage, on the mesh).
+            (
+                "effects.pinned=[{min=[-1, -1], max=[0.6, 20]}, {min=[0.4, -1], max=[2, 20]}]",
+                &["`effects.pinned`", "together hold every mesh vertex"],
+            ),
+            // Was refused only by the simulation ("vertex 0 starts at height -0.5").
+            (
+                "mesh.offset=[0, -0.5]",
+                &["`mesh.offset`", "on or below the ground at 0"],
+            ),
         ];
         for (set, words) in cases {
             let args = ["check", "report-drop-2d", "--set", set];

@@ -5,7 +5,7 @@
 //! or refused with messages naming `effects.pinned[i].key`. The regions'
 //! paths and forces: `moving_boundaries`.
 
-use crate::moving_boundaries::{bar, end, material};
+use crate::moving_boundaries::material;
 use elasto::material::MaterialModel;
 use elasto::math::{Vector, Vector3};
 use elasto::mesh::Mesh;
@@ -63,47 +63,6 @@ fn a_move_into_the_ground_is_refused() {
     assert!(text.contains("on or below the ground"), "{text}");
     // Steps 0..4 reach heights 0.4 .. 0.1; the 5th would reach 0.
     assert_eq!(sim.step_count(), 4);
-}
-
-/// Setting a region's motion checks its numbers.
-#[test]
-fn a_motion_with_bad_numbers_is_bad_input() {
-    let bad = [
-        PinMotion {
-            angular_velocity: 1.0,
-            axis: Vector3::new(1.0, 1.0, 0.0),
-            ..PinMotion::default()
-        },
-        PinMotion {
-            velocity: Vector::<3>::new(f64::NAN, 0.0, 0.0),
-            ..PinMotion::default()
-        },
-        PinMotion {
-            until: Some(-1.0),
-            ..PinMotion::default()
-        },
-    ];
-    for motion in bad {
-        let effects = Effects {
-            gravity: None,
-            ground: None,
-            contact: None,
-            pinned: vec![end::<3>(-1.0, 1e-9).moving(motion)],
-            obstacles: Vec::new(),
-        };
-        let error = Simulation::new(
-            bar::<3>(2.0, 2),
-            material(MaterialModel::NeoHookean, 100.0, 0.3),
-            1.0,
-            effects,
-            SimulationSettings::default(),
-            Vector::<3>::zeros(),
-        )
-        .err()
-        .expect("refused");
-        assert!(error.is_bad_input(), "{error}");
-        assert!(error.to_string().contains("effects.pinned[0]"), "{error}");
-    }
 }
 
 fn load(text: &str) -> Result<Scene, SceneError> {
@@ -169,6 +128,12 @@ fn bad_region_keys_are_named_with_their_index() {
             "velocity = [1, 2, 3]\n",
             "effects.pinned[1].velocity",
             "2 components",
+        ),
+        (
+            BAR_2D,
+            "velocity = [nan, 0]\n",
+            "effects.pinned[1].velocity",
+            "finite",
         ),
         (
             BAR_2D,

@@ -292,12 +292,12 @@ fn obstacles_that_start_in_contact_or_without_contact_are_refused() {
         // The plate through the block.
         (
             pushed_block("").replace("offset = [-0.2, 0.05]", "offset = [-0.05, 0.05]"),
-            "body 0 and obstacle 0 (obstacles[0])",
+            "`obstacles[0]`: body 0 and obstacle 0 (obstacles[0]) start 0.000e0 apart",
         ),
         // The plate 1e-3 from the block, within d_hat = 5e-3.
         (
             pushed_block("").replace("offset = [-0.2, 0.05]", "offset = [-0.101, 0.05]"),
-            "closer than the contact distance",
+            "`obstacles[0]`: body 0 and obstacle 0 (obstacles[0]) start 1.000e-3 apart",
         ),
         // The block inside a big box obstacle.
         (
@@ -305,7 +305,7 @@ fn obstacles_that_start_in_contact_or_without_contact_are_refused() {
                 "mesh = { size = [0.1, 0.5], offset = [-0.2, 0.05] }",
                 "mesh = { size = [2.0, 2.0], offset = [-1.0, -0.5] }",
             ),
-            "body 0 starts inside obstacle 0 (obstacles[0])",
+            "`obstacles[0]`: body 0 starts inside obstacle 0 (obstacles[0])",
         ),
         // No [effects.contact].
         (
@@ -392,6 +392,48 @@ fn obstacle_surface_files_are_read_and_their_errors_named() {
         "{}",
         stderr(&o)
     );
+}
+
+/// Regression: an obstacle's surface file (`.obj`, `.ply`) was read apart
+/// from the bodies' mesh files and its path went into a run's `scene.toml`
+/// as written, relative: checking or re-running that `scene.toml` from the
+/// run's folder could not find the file. Read by the one mesh-file reader,
+/// its path is made absolute and its size and checksum are recorded, like a
+/// body's.
+#[test]
+fn a_runs_scene_toml_finds_the_obstacles_surface_file() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("floor.obj"), "v -1 0 0\nv 1 0 0\nl 1 2\n").unwrap();
+    let scene = pushed_block("").replace(
+        "mesh = { size = [0.1, 0.5], offset = [-0.2, 0.05] }\nvelocity = [0.5, 0.0]",
+        "mesh = { generator = \"file\", path = \"floor.obj\" }",
+    );
+    assert!(scene.contains("floor.obj"), "the scene was changed");
+    std::fs::write(dir.path().join("floor.toml"), scene).unwrap();
+    let o = elasto(
+        dir.path(),
+        &[
+            "run",
+            "floor.toml",
+            "--no-render",
+            "-q",
+            "--frames",
+            "2",
+            "-o",
+            "first",
+        ],
+    );
+    assert_code(&o, 0);
+    let resolved = std::fs::read_to_string(dir.path().join("first/scene.toml")).unwrap();
+    let absolute = std::path::absolute(dir.path().join("floor.obj")).unwrap();
+    assert!(
+        resolved.contains(&format!("path = {:?}", absolute.display().to_string())),
+        "{resolved}"
+    );
+    assert!(resolved.contains("file_checksum = \"xxh3:"), "{resolved}");
+    // From the run's own folder, the recorded scene finds its file.
+    let o = elasto(&dir.path().join("first"), &["check", "scene.toml"]);
+    assert_code(&o, 0);
 }
 
 /// Obstacles are in the frames (issue 32 item 2): the plate of

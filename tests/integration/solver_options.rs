@@ -112,50 +112,6 @@ fn a_scene_without_ground_has_no_contact_term() {
     assert!(with.ground().unwrap().stiffness() > 0.0);
 }
 
-#[test]
-fn invalid_settings_and_bodies_below_ground_are_errors() {
-    let mesh =
-        || Mesh::axis_aligned_box(Vector2::new(0.0, -0.5), Vector2::new(1.0, 0.5), [2, 2]).unwrap();
-    let effects = Effects {
-        ground: Some(Ground {
-            height: 0.0,
-            activation_distance: 0.1,
-            stiffness: None,
-            friction: 0.0,
-        }),
-        ..Default::default()
-    };
-    let below = Simulation::new(
-        mesh(),
-        stvk(),
-        1.0,
-        effects,
-        SimulationSettings::default(),
-        Vector2::zeros(),
-    )
-    .err()
-    .unwrap();
-    assert!(
-        below.to_string().contains("vertex 0 starts at height -0.5"),
-        "{below}"
-    );
-    let bad_dt = SimulationSettings {
-        dt: -1.0,
-        ..Default::default()
-    };
-    let error = Simulation::new(
-        mesh(),
-        stvk(),
-        1.0,
-        Effects::default(),
-        bad_dt,
-        Vector2::zeros(),
-    )
-    .err()
-    .unwrap();
-    assert!(error.to_string().contains("dt"), "{error}");
-}
-
 /// Regression: gradient descent (the report's method) never moved the body: its stopping rule compared the tiny fixed step `alpha * gradient` with the tolerance, so every step stopped after one iteration and `com_y` stayed at 10.5.
 mod regression_gradient_descent_never_moved {
     use crate::cli_common;

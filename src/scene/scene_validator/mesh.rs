@@ -1,10 +1,13 @@
 //! A body's `mesh` table: a generated box or a mesh file (read once, here, with
 //! its fingerprint recorded), its placement (`scale`, `rotate`, `translate`),
-//! and the checks on its cells and mass.
+//! and the checks on its cells and mass. Every mesh file of a scene, a
+//! body's or an obstacle's, is read by [`SceneValidator::read_mesh_file`].
 
 use super::{SceneValidator, VResult};
 use crate::math::Vector;
-use crate::mesh_io::{ImportOptions, MeshFileFingerprint, load_mesh, mesh_file_fingerprint};
+use crate::mesh_io::{
+    ImportOptions, MeshFileFingerprint, MeshImportError, load_mesh, mesh_file_fingerprint,
+};
 use crate::scene::raw_scene::{Generator, RawMesh, RawRotate};
 use crate::scene::scene_config::{BoxMesh, FileMesh, MAX_CELLS, MeshConfig, RecordedFile};
 use crate::scene::scene_error::{num, nums};
@@ -72,12 +75,52 @@ impl SceneValidator<'_, '_> {
         }
     }
 
-    /// A mesh file: read once here (the simulation trusts it), placed, its
-    /// size and checksum recorded.
+    /// A body's mesh file: read once here (the simulation trusts it), placed,
+    /// its size and checksum recorded.
     pub(super) fn file_mesh<const D: usize>(
         &self,
         raw: &RawMesh,
     ) -> VResult<(FileMesh<D>, Vector<D>, RawMesh)> {
+        let velocity = match &raw.velocity {
+            Some(v) => self.vector::<D>("mesh.velocity", v)?,
+            None => Vector::<D>::zeros(),
+        };
+        let (file, mut resolved) = self.read_mesh_file::<D, _>(raw, true, load_mesh::<D>)?;
+        let (mesh, report) = file.content;
+        let coordinates: Vec<f64> = mesh
+            .rest_positions()
+            .iter()
+            .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
+            .collect();
+        self.single_precision("mesh.translate", &coordinates, false)?;
+        resolved.velocity = Some(velocity.iter().copied().collect());
+        Ok((
+            FileMesh {
+                path: file.path,
+                options: file.options,
+                mesh: std::sync::Arc::new(mesh),
+                report,
+                fingerprint: file.fingerprint,
+                recorded: file.recorded,
+            },
+            velocity,
+            resolved,
+        ))
+    }
+
+    /// The one place a mesh file is read, a body's volume mesh or an
+    /// obstacle's surface alike: `mesh.path` resolved against the scene's
+    /// folder, the placement (`scale`, `rotate`, `translate`, and with
+    /// `cleaned` the volume mesh's `orient` and `merge_tolerance`), the
+    /// file read by `read`, its size and checksum taken and the recorded ones
+    /// checked for form. Returns the resolved `mesh` table (path made
+    /// absolute, the fingerprint recorded; no `velocity`).
+    pub(super) fn read_mesh_file<const D: usize, T>(
+        &self,
+        raw: &RawMesh,
+        cleaned: bool,
+        read: impl FnOnce(&Path, &ImportOptions<D>) -> Result<T, MeshImportError>,
+    ) -> VResult<(MeshFile<D, T>, RawMesh)> {
         let given = raw
             .path
             .as_deref()
@@ -96,10 +139,6 @@ impl SceneValidator<'_, '_> {
             ));
         }
         let orient = raw.orient.unwrap_or(true);
-        let velocity = match &raw.velocity {
-            Some(v) => self.vector::<D>("mesh.velocity", v)?,
-            None => Vector::<D>::zeros(),
-        };
         let options = ImportOptions {
             orient,
             merge_tolerance,
@@ -131,22 +170,16 @@ impl SceneValidator<'_, '_> {
                 None => None,
             },
         };
-        let (mesh, report) = load_mesh::<D>(&path, &options)
+        let content = read(&path, &options)
             .map_err(|e| self.err("mesh.path", format!("cannot be imported: {e}")))?;
         let fingerprint = mesh_file_fingerprint(&path)
             .map_err(|e| self.err("mesh.path", format!("cannot be read: {e}")))?;
-        let coordinates: Vec<f64> = mesh
-            .rest_positions()
-            .iter()
-            .flat_map(|x| x.iter().copied().collect::<Vec<_>>())
-            .collect();
-        self.single_precision("mesh.translate", &coordinates, false)?;
         let resolved = RawMesh {
             generator: Some(Generator::File),
             size: None,
             cells: None,
             offset: None,
-            velocity: Some(velocity.iter().copied().collect()),
+            velocity: None,
             path: Some(path.display().to_string()),
             scale: Some(scale),
             rotate: Some(if D == 2 {
@@ -155,21 +188,19 @@ impl SceneValidator<'_, '_> {
                 RawRotate::Angles(rotate.to_vec())
             }),
             translate: Some(translate.iter().copied().collect()),
-            orient: Some(orient),
-            merge_tolerance: Some(merge_tolerance),
+            orient: cleaned.then_some(orient),
+            merge_tolerance: cleaned.then_some(merge_tolerance),
             file_size: i64::try_from(fingerprint.size).ok(),
             file_checksum: Some(fingerprint.checksum.clone()),
         };
         Ok((
-            FileMesh {
+            MeshFile {
                 path,
                 options,
-                mesh: std::sync::Arc::new(mesh),
-                report,
+                content,
                 fingerprint,
                 recorded,
             },
-            velocity,
             resolved,
         ))
     }
@@ -373,4 +404,20 @@ impl SceneValidator<'_, '_> {
         }
         Ok(())
     }
+}
+
+/// A mesh file as [`SceneValidator::read_mesh_file`] read it: where it is,
+/// how it was placed, what `read` made of it, and its size and checksum
+/// (as read, and as the scene recorded them).
+pub(super) struct MeshFile<const D: usize, T> {
+    /// The file, absolute.
+    pub path: PathBuf,
+    /// Its placement and cleaning.
+    pub options: ImportOptions<D>,
+    /// What was read: a cleaned mesh and its report, or a surface.
+    pub content: T,
+    /// The size and checksum read.
+    pub fingerprint: MeshFileFingerprint,
+    /// The size and checksum the scene recorded.
+    pub recorded: RecordedFile,
 }

@@ -165,19 +165,8 @@ impl SceneValidator<'_, '_> {
                 ));
             }
         }
-        let given = raw.path.as_deref().expect("a surface file's path");
-        let path = self.mesh_folder().join(given);
-        let path = std::path::absolute(&path).unwrap_or(path);
-        let (scale, rotate, translate) = self.placement::<D>(raw)?;
-        let options = ImportOptions {
-            scale,
-            rotate,
-            translate,
-            ..ImportOptions::default()
-        };
-        let import =
-            load_surface::<D>(&path, &options).map_err(|e| self.err("mesh.path", e.to_string()))?;
-        Ok((Arc::new(import.surface), Vec::new(), raw.clone()))
+        let (file, resolved) = self.read_mesh_file::<D, _>(raw, false, load_surface::<D>)?;
+        Ok((Arc::new(file.content.surface), Vec::new(), resolved))
     }
 }
 
