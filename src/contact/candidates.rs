@@ -179,7 +179,8 @@ impl<const D: usize> CandidateFinder<D> {
                 return 0.0;
             }
             let ([a0, a1], [b0, b1]) = (shifts[a].0, shifts[b].0);
-            (a0 - b0).norm().max((a1 - b1).norm())
+            let shift = (a0 - b0).norm().max((a1 - b1).norm());
+            if shift.is_nan() { f64::INFINITY } else { shift }
         };
         let box_of = |corners: &[usize]| -> Aabb<D> {
             let mut b = Aabb::empty();
@@ -253,10 +254,14 @@ impl<const D: usize> CandidateFinder<D> {
                 *sum = [sum[0] / n, sum[1] / n];
             }
         }
+        // A coordinate that is not a number (a position, or through its
+        // body's mean) makes the motion unbounded: no pair it touches is
+        // dropped by the certificate (the boxes decide, as without it).
+        let bounded = |u: f64| if u.is_nan() { f64::INFINITY } else { u };
         self.motion.resize(x.len(), 0.0);
         for (s, (&v, moved)) in mesh.vertices().iter().zip(&self.displacements).enumerate() {
             let [t0, t1] = self.body_shifts[mesh.vertex_body(s)].0;
-            self.motion[v] = (moved[0] - t0).norm().max((moved[1] - t1).norm());
+            self.motion[v] = bounded((moved[0] - t0).norm()).max(bounded((moved[1] - t1).norm()));
         }
     }
 

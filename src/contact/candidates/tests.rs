@@ -195,3 +195,32 @@ fn a_translated_body_keeps_its_far_pairs_out_in_2d() {
 fn a_translated_body_keeps_its_far_pairs_out_in_3d() {
     a_translated_body_keeps_its_far_pairs_out::<3>();
 }
+
+/// A position that is not a number poisons its body's mean motion: the
+/// certificate then drops none of that body's pairs (the boxes decide,
+/// as without it), so a far pair between finite vertices of that body
+/// stays a candidate where its boxes overlap.
+#[test]
+fn a_position_that_is_not_a_number_drops_no_pair() {
+    let activation = 0.05;
+    let (mesh, x) = stacked::<3>(3, 0.03);
+    let mut finder = CandidateFinder::<3>::default();
+    let mut out = Vec::new();
+    finder.find(&mesh, &x, None, activation, true, &mut out);
+    let mut fall = vec![Vector::<3>::new(0.0, -0.5, 0.0); x.len()];
+    fall[0] = Vector::<3>::new(f64::NAN, 0.0, 0.0);
+    finder.find(&mesh, &x, Some(&fall), activation, true, &mut out);
+    // The pairs of the poisoned body (the first box) between finite vertices.
+    let finite = |s: &ContactStencil| {
+        s.corners()
+            .iter()
+            .all(|&v| v < x.len() / 2 && x[v].iter().chain(fall[v].iter()).all(|c| c.is_finite()))
+    };
+    let expected: Vec<_> = box_pairs(&mesh, &x, Some(&fall), activation)
+        .into_iter()
+        .filter(finite)
+        .collect();
+    let got: Vec<_> = out.into_iter().filter(finite).collect();
+    assert!(expected.len() > 10, "{}", expected.len());
+    assert!(got == expected, "{} of {} kept", got.len(), expected.len());
+}
