@@ -118,7 +118,7 @@ impl RunHealth {
         }
     }
 
-    /// The first frame whose total energy rose beyond [`ENERGY_RISE_LIMIT`]
+    /// The first frame whose total energy rose beyond `ENERGY_RISE_LIMIT`
     /// (a closed scene only), and the sentence that says so.
     pub fn energy_rise(&self) -> Option<(usize, String)> {
         let ((total, frame), (start, _)) = self.energy_rise.zip(self.start_energy)?;

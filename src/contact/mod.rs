@@ -12,7 +12,7 @@
 //! 3. [`distance`]: squared distances of each stencil kind with their
 //!    closest-feature classification, gradients and Hessians, and the
 //!    edge-edge mollifier.
-//! 4. [`barrier`]: the clamped log barrier; [`ContactStencil::energy_derivatives`]
+//! 4. [`barrier`](mod@barrier): the clamped log barrier; [`ContactStencil::energy_derivatives`]
 //!    puts it on a stencil with a PSD-projected Hessian.
 //! 5. [`ccd`] and [`collision_free_step`]: additive continuous collision
 //!    detection, which caps the line search so that no pair ever touches.

@@ -136,7 +136,7 @@ impl Drop for PartialFile {
 }
 
 /// Writes `bytes` as the whole file at `path` through its registered hidden
-/// temporary (see [`PartialFile`]): the final name holds the earlier file or
+/// temporary (see `PartialFile`): the final name holds the earlier file or
 /// the whole new one, never a part, and a failed write (a full disk) leaves
 /// nothing behind. For the files of a run other than frames and videos
 /// (`scene.toml`, VTU meshes, surfaces, `study.md`, ...).

@@ -382,7 +382,7 @@ impl<const D: usize> EnergyTerm<D> for Elasticity<D> {
     /// that forbids it (Neo-Hookean, StVK with its volume barrier) gets
     /// IPC's relative filter: for each element the first `t` where
     /// `J(t) = det((D_s + t dD_s) D_m^{-1})` (a polynomial of degree `D` in
-    /// `t`) falls to `c J(0)`, `c` = [`volume_kept_per_step`] (0.1 in 2D, 0.2
+    /// `t`) falls to `c J(0)`, `c` = `volume_kept_per_step` (0.1 in 2D, 0.2
     /// in 3D); 1 if none does in `(0, 1]`. The cap shrinks with the element
     /// but is never 0 while `J(0) > 0` (the barrier's energy keeps the
     /// minimiser away from `J = 0`, so the filter only stops a step from

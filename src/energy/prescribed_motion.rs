@@ -73,7 +73,7 @@ impl<const D: usize> PrescribedMotion<D> {
     }
 
     /// After a solve at `x`: updates the multipliers, and doubles `rho` (up
-    /// to [`MAX_STIFFNESS`]) if the largest error did not at least halve
+    /// to `MAX_STIFFNESS` = 1e8) if the largest error did not at least halve
     /// since the last update.
     pub fn update(&mut self, x: &[Vector<D>]) {
         let error = self.largest_error(x);

@@ -4,7 +4,7 @@
 //! Each derivative is first taken with respect to a few *local* difference
 //! vectors (an edge vector, a point relative to a vertex, ...), where the
 //! formulas are short (see the parent module's documentation), and then
-//! [`scatter`] moves it onto the stencil's vertices: a local vector
+//! `scatter` moves it onto the stencil's vertices: a local vector
 //! `u_k = x_plus - x_minus` adds its gradient block to `x_plus`'s rows and
 //! subtracts it from `x_minus`'s, and likewise for the Hessian blocks with the
 //! product of the two signs.
