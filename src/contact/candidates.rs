@@ -194,13 +194,7 @@ impl<const D: usize> CandidateFinder<D> {
         };
         let half = activation / 2.0;
         let candidate = |stencil: &ContactStencil, bodies: (usize, usize), reach: f64| {
-            let corners = stencil.corners();
-            let split = if stencil.kind == StencilKind::EdgeEdge {
-                2
-            } else {
-                1
-            };
-            let (a, b) = (&corners[..split], &corners[split..]);
+            let (a, b) = stencil.sides();
             !(largest(a) + largest(b) + apart(bodies.0, bodies.1) < reach)
                 && box_of(a).inflated(half).overlaps(&box_of(b).inflated(half))
         };
@@ -407,12 +401,7 @@ impl<const D: usize> CandidateCache<D> {
         // The pair's reach, or None when it can never be kept.
         let reach = |stencil: ContactStencil| {
             let reach = stencil.distance_squared(x).sqrt() * (1.0 - 1e-9) - margin;
-            let split = if stencil.kind == StencilKind::EdgeEdge {
-                2
-            } else {
-                1
-            };
-            let (a, b) = stencil.corners().split_at(split);
+            let (a, b) = stencil.sides();
             (!(largest(a) + largest(b) < reach)).then_some(reach)
         };
         let point_stencil = if D == 2 { point_edge } else { point_triangle };

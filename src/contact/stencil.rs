@@ -87,6 +87,16 @@ impl ContactStencil {
         &self.vertices[..self.vertex_count()]
     }
 
+    /// The corners of its two primitives: the point and the edge or
+    /// triangle, or the two edges.
+    pub fn sides(&self) -> (&[usize], &[usize]) {
+        let split = match self.kind {
+            StencilKind::PointEdge | StencilKind::PointTriangle => 1,
+            StencilKind::EdgeEdge => 2,
+        };
+        self.corners().split_at(split)
+    }
+
     /// The squared distance between the two primitives at positions `x`.
     pub fn distance_squared<const D: usize>(&self, x: &[Vector<D>]) -> f64 {
         let v = &self.vertices;

@@ -329,12 +329,8 @@ impl<const D: usize> ContactBarrier<D> {
     /// The friction coefficient of `stencil`: an obstacle's own where one
     /// side is an obstacle that has one, else the contact's `mu`.
     fn stencil_friction(&self, stencil: &ContactStencil, mu: f64) -> f64 {
-        let v = stencil.vertices;
-        let other = match stencil.kind {
-            StencilKind::PointEdge | StencilKind::PointTriangle => v[1],
-            StencilKind::EdgeEdge => v[2],
-        };
-        match (self.mesh.body_of(v[0]), self.mesh.body_of(other)) {
+        let (a, b) = stencil.sides();
+        match (self.mesh.body_of(a[0]), self.mesh.body_of(b[0])) {
             (Some(a), Some(b)) => self.mesh.friction_between(a, b, mu),
             _ => mu,
         }
