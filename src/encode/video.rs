@@ -248,20 +248,8 @@ fn gif_error(path: &Path, error: gif::EncodingError) -> RenderError {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::noise;
     use image::AnimationDecoder;
-
-    /// A deterministic opaque noise image (xorshift): no two neighbours
-    /// are alike by chance.
-    fn noise(width: u32, height: u32, seed: u32) -> RgbaImage {
-        let mut state = seed.wrapping_mul(2_654_435_761) | 1;
-        RgbaImage::from_fn(width, height, |_, _| {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            let [r, g, b, _] = state.to_le_bytes();
-            image::Rgba([r, g, b, 255])
-        })
-    }
 
     /// Writes `frames` as an APNG and returns the frames a player shows,
     /// with the size of each stored rectangle.

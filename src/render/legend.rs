@@ -343,7 +343,7 @@ mod tests {
             let legend = Legend::new(label, range, width, height).unwrap();
             let footprint = legend.footprint(width, height);
             // On noise no blend leaves a pixel as it was by chance.
-            let before = crate::render::pixel_rect::noise(width, height, seed as u32);
+            let before = crate::render::noise(width, height, seed as u32);
             let mut after = before.clone();
             legend.draw(&mut after);
             let mut changed = 0;

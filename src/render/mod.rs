@@ -49,6 +49,8 @@ pub use colormap::{linear_to_srgb, linear_to_srgb8, srgb_to_linear, viridis};
 pub use frame_target::FRAMES_IN_FLIGHT;
 pub use gpu::{BACKEND_VARIABLE, adapter_description, backend_variable_problem, max_image_size};
 pub use look::{OBSTACLE_FILL_OPACITY, OBSTACLE_SRGB};
+#[cfg(test)]
+pub(crate) use pixel_rect::noise;
 pub use preparing::PreparingRenderer;
 pub use renderer::{FrameTimings, PreparedRenderer, Renderer};
 pub use text::{FONT_BYTES, draw_text, text_width};
