@@ -209,3 +209,22 @@ pub fn wait_until(what: &str, limit: std::time::Duration, mut happened: impl FnM
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }
+
+/// Every file under `dir`, recursively (following links to folders), as
+/// paths relative to it, sorted; folders themselves are not listed.
+pub fn files_under(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut files = Vec::new();
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(folder) = pending.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                pending.push(path);
+            } else {
+                files.push(path.strip_prefix(dir).unwrap().to_path_buf());
+            }
+        }
+    }
+    files.sort();
+    files
+}

@@ -326,23 +326,12 @@ mod regression_full_disk_left_cut_files {
         command.output().expect("the elasto binary runs")
     }
 
-    /// Every file under `dir`, recursively, as paths relative to it.
+    /// Every file under `dir`, recursively, as text relative to it.
     fn files_under(dir: &Path) -> Vec<String> {
-        let mut files = Vec::new();
-        let mut pending = vec![dir.to_path_buf()];
-        while let Some(folder) = pending.pop() {
-            for entry in std::fs::read_dir(&folder).unwrap() {
-                let path = entry.unwrap().path();
-                if path.is_dir() {
-                    pending.push(path);
-                } else {
-                    let relative = path.strip_prefix(dir).unwrap();
-                    files.push(relative.to_string_lossy().into_owned());
-                }
-            }
-        }
-        files.sort();
-        files
+        crate::cli_common::files_under(dir)
+            .iter()
+            .map(|f| f.to_string_lossy().into_owned())
+            .collect()
     }
 
     #[test]

@@ -269,10 +269,10 @@ fn a_run_that_stops_early_leaves_its_frames_but_no_video() {
 /// (issue 33 item 17): rows are now written as the frames are simulated.
 #[cfg(unix)]
 mod regression_interrupt_left_partial_video {
+    use crate::cli_common::files_under;
     use crate::render_support;
 
     use std::io::Read;
-    use std::path::{Path, PathBuf};
     use std::process::{Child, ExitStatus, Stdio};
     use std::time::Duration;
 
@@ -285,24 +285,6 @@ mod regression_interrupt_left_partial_video {
             pipe.read_to_string(&mut stderr).unwrap();
         }
         (status, stderr)
-    }
-
-    /// Every file under `dir`, recursively, relative to it.
-    fn files_under(dir: &Path) -> Vec<PathBuf> {
-        let mut files = Vec::new();
-        let mut pending = vec![dir.to_path_buf()];
-        while let Some(folder) = pending.pop() {
-            for entry in std::fs::read_dir(&folder).unwrap() {
-                let path = entry.unwrap().path();
-                if path.is_dir() {
-                    pending.push(path);
-                } else {
-                    files.push(path.strip_prefix(dir).unwrap().to_path_buf());
-                }
-            }
-        }
-        files.sort();
-        files
     }
 
     /// Starts a long run that renders while simulating (fixed camera and range)
