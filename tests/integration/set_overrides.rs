@@ -14,6 +14,7 @@
 /// and a key through an array without an index says how to index it.
 mod regression_array_items_could_not_be_set {
     use crate::cli_common as common;
+    use crate::cli_sweep::folders;
     use common::*;
     use std::path::Path;
 
@@ -183,12 +184,10 @@ max = [4.1, 2.1]
             ],
         );
         assert_code(&o, 0);
-        let mut runs: Vec<_> = std::fs::read_dir(dir.join("sw"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.is_dir())
+        let runs: Vec<_> = folders(&dir.join("sw"))
+            .iter()
+            .map(|name| dir.join("sw").join(name))
             .collect();
-        runs.sort();
         assert_eq!(runs.len(), 2, "{runs:?}");
         let youngs: Vec<(f64, f64)> = runs
             .iter()
@@ -222,12 +221,10 @@ max = [4.1, 2.1]
             ],
         );
         assert_code(&o, 0);
-        let mut runs: Vec<_> = std::fs::read_dir(dir.join("sf"))
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.is_dir())
+        let runs: Vec<_> = folders(&dir.join("sf"))
+            .iter()
+            .map(|name| dir.join("sf").join(name))
             .collect();
-        runs.sort();
         let releases: Vec<(f64, Option<f64>, Option<f64>)> = runs
             .iter()
             .map(|run| {

@@ -15,28 +15,34 @@
 mod regression_sweep_collect_wrote_runs_that_never_ran {
     use crate::cli_common as common;
     use common::*;
+    use std::path::Path;
+    use std::process::Output;
+
+    /// `elasto sweep s.toml --vary VARY --frames 3 -o sw --no-render --quiet`
+    /// and `extra`, in `dir`.
+    fn sweep_into_sw(dir: &Path, vary: &str, extra: &[&str]) -> Output {
+        let mut args = vec![
+            "sweep",
+            "s.toml",
+            "--vary",
+            vary,
+            "--frames",
+            "3",
+            "-o",
+            "sw",
+            "--no-render",
+            "--quiet",
+        ];
+        args.extend(extra);
+        elasto(dir, &args)
+    }
 
     #[test]
     fn collect_refuses_a_folder_without_this_sweeps_runs_and_writes_nothing() {
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path();
         std::fs::write(dir.join("s.toml"), SMALL_SCENE).unwrap();
-        let sweep = |vary: &str, extra: &[&str]| {
-            let mut args = vec![
-                "sweep",
-                "s.toml",
-                "--vary",
-                vary,
-                "--frames",
-                "3",
-                "-o",
-                "sw",
-                "--no-render",
-                "--quiet",
-            ];
-            args.extend(extra);
-            elasto(dir, &args)
-        };
+        let sweep = |vary: &str, extra: &[&str]| sweep_into_sw(dir, vary, extra);
         // No folder: said so, none made.
         let o = sweep("material.young=100,200", &["--collect"]);
         assert_code(&o, 2);
@@ -73,22 +79,7 @@ mod regression_sweep_collect_wrote_runs_that_never_ran {
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path();
         std::fs::write(dir.join("s.toml"), SMALL_SCENE).unwrap();
-        let sweep = |vary: &str, extra: &[&str]| {
-            let mut args = vec![
-                "sweep",
-                "s.toml",
-                "--vary",
-                vary,
-                "--frames",
-                "3",
-                "-o",
-                "sw",
-                "--no-render",
-                "--quiet",
-            ];
-            args.extend(extra);
-            elasto(dir, &args)
-        };
+        let sweep = |vary: &str, extra: &[&str]| sweep_into_sw(dir, vary, extra);
         assert_code(&sweep("material.young=100,200,300", &[]), 0);
         let table = std::fs::read(dir.join("sw/sweep.csv")).unwrap();
         let json = std::fs::read(dir.join("sw/sweep.json")).unwrap();
